@@ -1,0 +1,124 @@
+#pragma once
+// The run configuration (SPEC 13): nested structs with defaults, loaded from YAML plus
+// `--set key=value` overrides, validated in one place. Unknown keys, wrong types and
+// impossible values are errors that name the key.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hazmap/rules/kalman.hpp"
+
+namespace hazmap {
+
+struct StereoConfig {
+  std::string matcher = "bm";       ///< bm | sgbm
+  int num_disparities = 128;        ///< multiple of 16
+  int block_size = 11;              ///< odd
+  int min_disparity = 0;
+  int uniqueness_ratio = 10;
+  int texture_threshold = 10;       ///< StereoBM only
+  int pre_filter_cap = 31;
+  int speckle_window = 100;         ///< 0 disables the speckle filter
+  int speckle_range = 2;            ///< pixels (scaled x16 for StereoBM, SPEC 3)
+  int disp12_max_diff = -1;         ///< left-right consistency in px; -1 disables
+  int sgbm_p1 = 0;                  ///< 0: 8 * block_size^2
+  int sgbm_p2 = 0;                  ///< 0: 32 * block_size^2
+  std::string sgbm_mode = "hh";     ///< sgbm | hh | sgbm_3way | hh4
+  double rectify_alpha = 0.0;
+  int stride = 1;                   ///< use every stride-th pixel in u and v
+  double z_min_m = 0.05;
+  double z_max_m = 10.0;
+};
+
+struct SensorConfig {
+  std::string model = "axis";       ///< axis | ray (SPEC 4)
+  double pointing_error_px = 0.5;
+  double disparity_error_px = 0.25;
+};
+
+enum class RuleKind { bananas, kalman, omg, ccm };
+const char* rule_name(RuleKind kind);
+
+struct LayerHazardConfig {
+  int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
+  double roughness_threshold_m = -1; ///< < 0: derived as (kernel - 1) r tan(max_slope)
+  double h_min_m = -1;               ///< smallest obstacle height (CCM layers); < 0: 0.75 r
+};
+
+struct LayerConfig {
+  double resolution_m = 0.01;
+  int size = 128;  ///< cells per side, even
+  RuleKind rule = RuleKind::kalman;
+  LayerHazardConfig hazard;
+};
+
+struct MapConfig {
+  std::string insertion = "all_layers";  ///< all_layers | finest_then_pool
+  std::vector<LayerConfig> layers;
+};
+
+struct OmgConfig {
+  double max_weight = 1.0e7;
+  double decay = 1.0;
+};
+
+struct CcmConfig {
+  std::string weighting = "constant";  ///< constant | trace | det
+  bool full_plane = true;
+  double max_weight = 500;
+  int min_points = 10;
+  double min_coverage = 0.8;
+  double max_std_ratio = 0.0;
+};
+
+struct RulesConfig {
+  KalmanRule::Config kalman;
+  OmgConfig omg;
+  CcmConfig ccm;
+};
+
+struct HazardConfig {
+  double max_slope_deg = 20.0;
+  double wheelbase_m = 0.30;
+  double min_kernel_fill = 0.5;  ///< fraction of kernel cells that must be observed
+};
+
+struct PoseUncertaintyConfig {
+  bool enabled = false;
+};
+
+struct OutputConfig {
+  int every_n = 1;        ///< write every n-th frame (and always the last)
+  bool png = true;
+  bool jdem = true;
+  int png_min_size = 512; ///< PNGs are scaled up by whole pixels per cell to at least this
+};
+
+struct Config {
+  StereoConfig stereo;
+  SensorConfig sensor;
+  MapConfig map;
+  RulesConfig rules;
+  HazardConfig hazard;
+  PoseUncertaintyConfig pose_uncertainty;
+  OutputConfig output;
+};
+
+/// Parses YAML text (`source` names it in messages) after applying overrides of the
+/// form "dotted.key=value" (`map.layers.0.size=64`); validates the result.
+Config parse_config(const std::string& yaml_text, const std::string& source,
+                    const std::vector<std::string>& overrides = {});
+
+/// Reads and parses a YAML file; see parse_config.
+Config load_config(const std::filesystem::path& path,
+                   const std::vector<std::string>& overrides = {});
+
+/// Checks values that YAML typing cannot (odd sizes, resolutions that are not integer
+/// multiples, negative noise, ...). Throws Error naming the key.
+void validate(const Config& config);
+
+/// The configuration as YAML, with every key and the value actually used.
+std::string to_yaml(const Config& config);
+
+}  // namespace hazmap

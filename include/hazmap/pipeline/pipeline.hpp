@@ -1,0 +1,81 @@
+#pragma once
+// The per-frame path, in order: grey conversion -> rectification -> disparity ->
+// points with covariance -> map insertion -> hazards. Buffers live here and are reused
+// from frame to frame.
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "hazmap/camera/rectifier.hpp"
+#include "hazmap/hazard/roughness_filter.hpp"
+#include "hazmap/io/config.hpp"
+#include "hazmap/map/layer_stack.hpp"
+#include "hazmap/stereo/disparity.hpp"
+#include "hazmap/stereo/point_cloud_builder.hpp"
+
+namespace hazmap {
+
+/// Wall time of each stage of one frame, milliseconds.
+struct StageTimes {
+  double rectify_ms = 0;    ///< grey conversion + remap
+  double disparity_ms = 0;
+  double points_ms = 0;     ///< triangulation + covariance + transform
+  double map_ms = 0;        ///< rolling + insertion
+  double hazard_ms = 0;     ///< grid export + segmentation + fusion
+  double total() const { return rectify_ms + disparity_ms + points_ms + map_ms + hazard_ms; }
+};
+
+struct FrameReport {
+  size_t points = 0;       ///< valid points of the frame
+  size_t updates = 0;      ///< point-into-layer updates
+  StageTimes ms;
+};
+
+/// What a layer shows after a frame: dense grids in image order (row 0 = largest y).
+struct LayerView {
+  DenseGrid height;     ///< cell-centre height [m], NaN unknown
+  DenseGrid variance;   ///< [m^2]
+  DenseGrid roughness;  ///< max - min in the kernel [m]
+  DenseGrid fill;       ///< observed fraction of the kernel
+  DenseGrid hazard;     ///< HazardClass values
+};
+
+/// Roughness parameters of a layer: the kernel from its config, the threshold given or
+/// derived as (D - 1) r tan(max_slope) (SPEC 8.1).
+RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& hazard);
+
+class Pipeline {
+ public:
+  Pipeline(const Config& config, const StereoCalibration& calibration);
+
+  /// Runs one stereo pair (any 8/16-bit grey or colour images of the calibrated size)
+  /// taken at body pose T_W_B through the whole path.
+  FrameReport process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B);
+
+  const std::vector<LayerView>& layers() const { return views_; }
+  const DenseGrid& fused_hazard() const { return fused_; }
+  const LayerStack& map() const { return map_; }
+  const PointCloud& cloud() const { return cloud_; }
+  const cv::Mat& disparity_x16() const { return disparity_; }
+  const Rectifier& rectifier() const { return rectifier_; }
+
+ private:
+  void analyse_hazards();
+
+  Config config_;
+  Rectifier rectifier_;
+  DisparityMatcher matcher_;
+  PointCloudBuilder builder_;
+  LayerStack map_;
+  RoughnessFilter roughness_;
+  std::vector<RoughnessParams> roughness_params_;
+
+  cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
+  PointCloud cloud_;
+  std::vector<LayerView> views_;
+  std::vector<const DenseGrid*> hazard_ptrs_;
+  DenseGrid fused_;
+};
+
+}  // namespace hazmap

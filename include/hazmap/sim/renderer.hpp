@@ -1,0 +1,134 @@
+#pragma once
+// Exact per-pixel ray casting of a synthetic Terrain into an ideal (distortion-free)
+// pinhole camera. Geometry is exact to the ray-casting tolerance, so a rectified pair
+// rendered with this module has true disparity f B / Z at every pixel: tests and
+// evaluations can compare a stereo pipeline against it.
+//
+// Frames: W world (z up); C camera, OpenCV convention (x right, y down, z forward).
+// Pixel centres are at integer (u, v); pixel (u, v) covers [u - 0.5, u + 0.5).
+
+#include <cstdint>
+#include <optional>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "hazmap/core/types.hpp"
+#include "hazmap/sim/terrain.hpp"
+
+namespace hazmap::sim {
+
+/// Ideal pinhole camera (no distortion). u = fx X/Z + cx, v = fy Y/Z + cy.
+struct PinholeCamera {
+  int width_px = 0;
+  int height_px = 0;
+  double fx_px = 0.0;
+  double fy_px = 0.0;
+  double cx_px = 0.0;
+  double cy_px = 0.0;
+
+  /// Direction through pixel position (u, v) in C, scaled so that z = 1 (not unit).
+  Eigen::Vector3d ray_C(double u_px, double v_px) const {
+    return Eigen::Vector3d((u_px - cx_px) / fx_px, (v_px - cy_px) / fy_px, 1.0);
+  }
+  /// Pixel position of a point in C (requires p_C.z() > 0).
+  Eigen::Vector2d project(const Eigen::Vector3d& p_C) const {
+    return Eigen::Vector2d(fx_px * p_C.x() / p_C.z() + cx_px, fy_px * p_C.y() / p_C.z() + cy_px);
+  }
+};
+
+/// Where a ray meets the terrain.
+struct RayHit {
+  double range_m = 0.0;       ///< distance from the ray origin along the unit direction
+  Eigen::Vector3d p_W;        ///< hit point, exactly origin + range * direction
+  Eigen::Vector3d normal_W;   ///< unit outward surface normal
+  int rock_index = -1;        ///< index into Terrain::rocks(), or -1 for the ground
+};
+
+struct RayCastOptions {
+  double max_range_m = 20.0;  ///< rays that hit nothing closer see the sky
+  /// Below this height above the ground, marching switches from conservative steps to
+  /// steps that may overshoot by at most this much (then bisection brackets the hit).
+  /// Surface features thinner than this can be missed.
+  double march_tolerance_m = 5e-4;
+  /// The returned ground hit satisfies |z - ground_height_m(x, y)| < this.
+  double surface_tolerance_m = 1e-5;
+};
+
+/// Nearest intersection of the ray origin_W + t direction_W (t > 0) with the terrain
+/// within max_range_m. Ground: conservative marching with step h / (|d_z| + G |d_xy|)
+/// (G = Terrain::max_ground_gradient(), h = height above ground), then bisection.
+/// Rocks: analytic ray-sphere intersection, counting only hits above the ground (a rock
+/// containing the origin is ignored). `direction_W` need not be unit. Returns nullopt for
+/// sky. The origin should be above the ground; from below, the result is "hit at once".
+/// Thread-safe.
+std::optional<RayHit> cast_ray(const Terrain& terrain, const Eigen::Vector3d& origin_W,
+                               const Eigen::Vector3d& direction_W,
+                               const RayCastOptions& options = RayCastOptions());
+
+struct RenderOptions {
+  RayCastOptions ray_cast;
+  /// Rays per pixel along each axis (box filter over the pixel): 2 => 2 x 2 rays. Anti-
+  /// aliases rock silhouettes; texture is band-limited separately (see Renderer).
+  int samples_per_axis = 2;
+  /// Texture: octave k of value noise has wavelength texture_min_wavelength_m * 2^k.
+  /// Equal amplitudes give texture at every scale, which is what block matching needs
+  /// from 0.2 m (mm detail) to several metres (cm to dm detail).
+  double texture_min_wavelength_m = 0.002;
+  int texture_octaves = 9;
+  double texture_contrast = 0.45;  ///< standard deviation of the albedo around its mean
+  double ground_albedo = 0.5;      ///< mean albedo of the ground
+  double rock_albedo = 0.45;       ///< mean albedo of rocks
+  /// Lambertian sun; when off, every surface shows its albedo as if lit like flat ground.
+  bool sun_shading = true;
+  double sun_elevation_deg = 30.0;
+  double sun_azimuth_deg = 110.0;  ///< from W +x towards +y (110: from the left, behind)
+  bool cast_shadows = true;        ///< shadows of rocks (the gentle ground casts none)
+  double ambient = 0.25;           ///< fraction of light that reaches shaded surfaces
+  double exposure_dn = 200.0;      ///< DN of albedo 1 on flat ground in full sun
+  double noise_sigma_dn = 1.0;     ///< additive Gaussian image noise
+};
+
+/// Renders 8-bit grey images of a terrain. Holds a reference to the terrain, which must
+/// outlive it. All methods are const and thread-safe.
+///
+/// Radiance = exposure * albedo(p) * shading / shading(flat ground in sun), with
+/// shading = ambient + (1 - ambient) max(0, n . s) (0 in a rock's shadow for the second
+/// term). Albedo is multi-octave value noise of the hit point (2-D in W x, y on the
+/// ground, 3-D on rocks), band-limited per ray: octaves whose wavelength is below about
+/// three ray footprints fade out, so distant ground does not alias.
+class Renderer {
+ public:
+  /// `texture_seed` chooses the albedo pattern. Throws Error on invalid options
+  /// (samples_per_axis < 1, negative noise, ...).
+  Renderer(const Terrain& terrain, const RenderOptions& options, std::uint64_t texture_seed);
+
+  /// Renders the camera at pose T_W_C (camera C in W). Returns CV_8UC1, height_px x
+  /// width_px. Sky is black. Image noise comes from a counter-based hash of
+  /// (noise_key, pixel), so the image is bit-identical for any thread count.
+  /// Parallel over rows (cv::parallel_for_).
+  cv::Mat render(const PinholeCamera& camera, const Pose3d& T_W_C,
+                 std::uint64_t noise_key) const;
+
+  /// True depth: CV_32FC1 with Z in C of the surface seen through each pixel centre, NaN
+  /// for sky. With a rectified pair, true disparity = fx * baseline / Z.
+  cv::Mat render_depth(const PinholeCamera& camera, const Pose3d& T_W_C) const;
+
+  /// Noise-free radiance (DN, unclipped) seen along a ray that hit `hit`;
+  /// `footprint_m` is the ray's footprint on the surface, for band-limiting the texture.
+  double radiance(const RayHit& hit, double footprint_m) const;
+
+  const RenderOptions& options() const { return options_; }
+
+ private:
+  double albedo(const RayHit& hit, double footprint_m) const;
+  bool in_rock_shadow(const RayHit& hit) const;
+
+  const Terrain& terrain_;
+  RenderOptions options_;
+  std::uint64_t texture_seed_;
+  Eigen::Vector3d sun_W_;     ///< unit vector towards the sun
+  double flat_shading_ = 1.0; ///< shading of flat ground in full sun (normalises radiance)
+};
+
+}  // namespace hazmap::sim

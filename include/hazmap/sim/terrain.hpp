@@ -1,0 +1,199 @@
+#pragma once
+// Synthetic terrain for the simulator: a ground surface (an analytic plane plus a detail
+// heightfield sampled on a regular grid) with analytic hemispherical rocks on top.
+//
+// The ground is what a rover drives on; rocks are obstacles. Ground truth for the
+// evaluation (SPEC 10) is sampled from the same functions the renderer ray-casts, so the
+// synthetic images and the ground-truth grids agree to the ray-casting tolerance.
+//
+// Everything here is in the world frame W (x forward at the start, y left, z up), metres.
+// Randomness is seeded: the same options give bit-identical terrain on every platform
+// (std::mt19937_64 is fully specified; we convert its output to numbers ourselves
+// because the std distributions are implementation-defined).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hazmap/io/jdem.hpp"
+
+namespace hazmap::sim {
+
+// ---------------------------------------------------------------------------------------
+// Noise primitives, shared by the terrain generator and the renderer's texture.
+
+/// SplitMix64 finaliser: a fast, well-mixed 64-bit hash. Counter-based randomness built on
+/// it does not depend on evaluation order or threading.
+std::uint64_t mix64(std::uint64_t x);
+
+/// Hash of a key and one more value, for deriving independent streams.
+std::uint64_t hash_combine(std::uint64_t key, std::uint64_t value);
+
+/// Uniform double in [0, 1) from the top 53 bits of a 64-bit value.
+double unit_double(std::uint64_t bits);
+
+/// Value noise on the unit integer lattice: random values in [-1, 1] at lattice points
+/// (hashed from `key`), blended with a quintic fade, so the field is C2 and band-limited
+/// to wavelengths of about one lattice unit and longer. Deterministic in (x, y, key).
+double value_noise_2d(double x, double y, std::uint64_t key);
+
+/// Same in 3-D (used to texture rocks without stretching on their steep sides).
+double value_noise_3d(double x, double y, double z, std::uint64_t key);
+
+// ---------------------------------------------------------------------------------------
+// Terrain description.
+
+/// A rock: a sphere of radius `radius_m` whose centre lies `buried_m` below the ground
+/// height at (x_m, y_m). Only the part above the ground is solid, so on flat ground its
+/// top stands radius_m - buried_m above the ground.
+struct Rock {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double radius_m = 0.05;
+  double buried_m = 0.0;
+};
+
+/// Heights at the nodes of a regular grid: node (ix, iy) sits at W position
+/// (origin_x_m + ix * resolution_m, origin_y_m + iy * resolution_m).
+/// An empty heightfield (0 nodes) stands for zero everywhere.
+struct Heightfield {
+  double origin_x_m = 0.0;
+  double origin_y_m = 0.0;
+  double resolution_m = 0.01;
+  int nodes_x = 0;
+  int nodes_y = 0;
+  std::vector<float> heights_m;  ///< index iy * nodes_x + ix
+};
+
+/// The plane z = offset_m + slope_x * x + slope_y * y (slopes are dz/dx, dz/dy).
+struct GroundPlane {
+  double offset_m = 0.0;
+  double slope_x = 0.0;
+  double slope_y = 0.0;
+};
+
+/// Ground = plane + bilinear interpolation of a detail heightfield (clamped to its edge
+/// values outside the grid, so the ground is defined and continuous everywhere), plus
+/// analytic rocks. Immutable after construction; all methods are thread-safe.
+class Terrain {
+ public:
+  /// Throws Error if the heightfield's size does not match nodes_x * nodes_y, if it has
+  /// a single node along an axis, or if a rock has a non-positive radius or buried_m
+  /// outside [0, radius_m).
+  Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock> rocks);
+
+  /// Ground height (rocks excluded) at W position (x, y), metres. Defined everywhere.
+  double ground_height_m(double x_m, double y_m) const;
+
+  /// Surface height at (x, y): the ground, or the top of a rock cap where that is higher.
+  /// Exact (analytic rock caps on the bilinear ground).
+  double height_m(double x_m, double y_m) const;
+
+  /// Upward unit normal of the ground at (x, y), from central differences one detail
+  /// cell wide (smooth enough for shading; exact for a plane).
+  Eigen::Vector3d ground_normal_W(double x_m, double y_m) const;
+
+  /// An upper bound G on |grad ground| over the whole plane. Ray marching relies on it:
+  /// along a unit ray d, height above ground decreases at most at |d_z| + G |d_xy|.
+  double max_ground_gradient() const { return max_ground_gradient_; }
+
+  /// Largest ground height anywhere (an upper bound), metres; +inf for a sloped plane.
+  double max_ground_height_m() const { return max_ground_height_m_; }
+
+  const std::vector<Rock>& rocks() const { return rocks_; }
+
+  /// W position of rock i's sphere centre: (x, y, ground(x, y) - buried).
+  Eigen::Vector3d rock_center_W(std::size_t i) const { return rock_centers_W_[i]; }
+
+  const GroundPlane& plane() const { return plane_; }
+  const Heightfield& detail() const { return detail_; }
+
+  /// Ground-truth surface height (rocks included) at the centres of a rows x cols grid
+  /// with cells of `resolution_m`, centred on `center_W` (JDEM layout, SPEC 9: row 0 =
+  /// largest y, column 0 = smallest x, yaw 0). Choose the centre so that the cell borders
+  /// fall on multiples of the resolution (SPEC 1). Throws Error on non-positive sizes.
+  JdemGrid ground_truth_height(double resolution_m, const Eigen::Vector2d& center_W,
+                               int rows, int cols) const;
+
+  /// Ground-truth hazard on the same layout: obstacle height above the ground at each
+  /// cell centre, height_m - ground_height_m (metres, 0 where there is no rock; SPEC 9).
+  JdemGrid ground_truth_hazard(double resolution_m, const Eigen::Vector2d& center_W,
+                               int rows, int cols) const;
+
+ private:
+  double detail_height_m(double x_m, double y_m) const;
+
+  GroundPlane plane_;
+  Heightfield detail_;
+  std::vector<Rock> rocks_;
+  std::vector<Eigen::Vector3d> rock_centers_W_;
+  double max_ground_gradient_ = 0.0;
+  double max_ground_height_m_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------------------
+// Generators and scenarios.
+
+/// Fractal (multi-octave) value noise: octave k has wavelength wavelength_m / 2^k and
+/// amplitude amplitude_m * gain^k. The sum stays within +-amplitude_m / (1 - gain).
+struct FractalNoiseOptions {
+  double amplitude_m = 0.015;  ///< amplitude of the longest octave
+  double wavelength_m = 2.0;   ///< wavelength of the longest octave
+  int octaves = 5;
+  double gain = 0.5;  ///< amplitude ratio between successive octaves
+};
+
+/// Random, non-overlapping rocks in a box ahead of the start (rocks scenario).
+struct RockFieldOptions {
+  int min_count = 3;
+  int max_count = 5;
+  double min_radius_m = 0.03;
+  double max_radius_m = 0.08;
+  double min_x_m = 0.25;  ///< range of rock centres along W x
+  double max_x_m = 0.9;
+  double max_abs_y_m = 0.35;  ///< |y| of rock centres
+  double max_buried_fraction = 0.3;  ///< buried_m is uniform in [0, this * radius)
+  double min_gap_m = 0.02;  ///< free space between neighbouring rocks
+};
+
+/// Everything that defines a terrain. Scenarios (SPEC 13 `hazmap simulate --scenario`):
+///   flat  : z = 0;
+///   ramp  : z = x tan(ramp_deg), rising along +x;
+///   rocks : fractal-noise ground (gentle, traversable) plus a random rock field.
+/// `extra_rocks` are added in every scenario.
+struct TerrainOptions {
+  std::string scenario = "rocks";
+  std::uint64_t seed = 1;
+  Eigen::Vector2d center_W = Eigen::Vector2d(1.5, 0.0);  ///< centre of the detail grid
+  double size_x_m = 8.0;        ///< extent of the detail grid (ground beyond is clamped)
+  double size_y_m = 8.0;
+  double resolution_m = 0.01;   ///< node spacing of the detail grid
+  double ramp_deg = 15.0;
+  FractalNoiseOptions noise;
+  RockFieldOptions rock_field;
+  std::vector<Rock> extra_rocks;
+};
+
+/// The scenario names make_terrain accepts.
+const std::vector<std::string>& terrain_scenarios();
+
+/// Throws Error naming the offending field if the options are unusable (unknown
+/// scenario, non-positive sizes or resolution, |ramp_deg| >= 80, negative noise, ...).
+void validate(const TerrainOptions& options);
+
+/// Fills a heightfield covering size_x_m x size_y_m around center_W with fractal value
+/// noise. Deterministic in (geometry, noise options, key).
+Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double size_x_m,
+                                     double size_y_m, double resolution_m,
+                                     const FractalNoiseOptions& noise, std::uint64_t key);
+
+/// Draws a rock field: rejection sampling of centres and radii until the count (itself
+/// drawn in [min_count, max_count]) is reached. Throws Error if the box cannot hold it.
+std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_t seed);
+
+/// Builds the terrain for `options` (validated first). Same options => identical terrain.
+Terrain make_terrain(const TerrainOptions& options);
+
+}  // namespace hazmap::sim

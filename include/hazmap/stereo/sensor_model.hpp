@@ -1,0 +1,47 @@
+#pragma once
+// Triangulation and the per-point covariance of a rectified stereo pair (SPEC 3.3, 4).
+// Pure functions of their inputs; frame C' is the rectified left camera (x right,
+// y down, z forward), pixels (u, v), disparity d in pixels.
+
+#include <Eigen/Core>
+
+namespace hazmap {
+
+struct StereoGeometry {
+  double focal_px = 0.0;    ///< f of the rectified pair
+  double baseline_m = 0.0;  ///< B > 0
+  double cx_px = 0.0;
+  double cy_px = 0.0;
+};
+
+enum class SensorModel { axis, ray };
+
+/// Z = f B / d, X = (u - cx) Z / f, Y = (v - cy) Z / f. Requires d > 0.
+inline Eigen::Vector3d triangulate(const StereoGeometry& g, double u, double v, double d) {
+  const double z = g.focal_px * g.baseline_m / d;
+  return {(u - g.cx_px) * z / g.focal_px, (v - g.cy_px) * z / g.focal_px, z};
+}
+
+/// The thesis' model: independent lateral error p Z / f and depth error Z^2 m / (f B).
+inline Eigen::Matrix3d covariance_axis(const StereoGeometry& g, double z_m, double pointing_px,
+                                       double matching_px) {
+  const double lateral = pointing_px * z_m / g.focal_px;
+  const double depth = z_m * z_m * matching_px / (g.focal_px * g.baseline_m);
+  return Eigen::Vector3d(lateral * lateral, lateral * lateral, depth * depth).asDiagonal();
+}
+
+/// First-order propagation of pixel noise (p, p) and disparity noise m through the
+/// triangulation: the major axis lies along the viewing ray.
+inline Eigen::Matrix3d covariance_ray(const StereoGeometry& g, double u, double v, double d,
+                                      double pointing_px, double matching_px) {
+  Eigen::Matrix3d J;
+  J << 1.0, 0.0, -(u - g.cx_px) / d,  //
+      0.0, 1.0, -(v - g.cy_px) / d,   //
+      0.0, 0.0, -g.focal_px / d;
+  J *= g.baseline_m / d;
+  const Eigen::Vector3d noise(pointing_px * pointing_px, pointing_px * pointing_px,
+                              matching_px * matching_px);
+  return J * noise.asDiagonal() * J.transpose();
+}
+
+}  // namespace hazmap

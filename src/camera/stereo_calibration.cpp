@@ -1,0 +1,127 @@
+#include "hazmap/camera/stereo_calibration.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "hazmap/core/error.hpp"
+#include "../io/yaml_access.hpp"
+
+namespace hazmap {
+namespace {
+
+Eigen::Matrix3d matrix3(const std::vector<double>& v) {
+  Eigen::Matrix3d m;
+  m << v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8];
+  return m;
+}
+
+CameraIntrinsics parse_camera(YamlMap m) {
+  CameraIntrinsics cam;
+  std::vector<double> k;
+  if (!m.has("K")) m.fail("K", "missing required key");
+  m.get("K", k, 9);
+  cam.K = matrix3(k);
+  if (m.has("D")) {
+    const YAML::Node d = m.raw("D");
+    if (!d.IsSequence() || !(d.size() == 0 || d.size() == 4 || d.size() == 5 || d.size() == 8 ||
+                             d.size() == 12 || d.size() == 14))
+      m.fail("D", "expected a list of 0, 4, 5, 8, 12 or 14 numbers");
+    std::vector<double> dist;
+    m.get("D", dist, d.size());
+    cam.D = dist;
+  }
+  m.finish();
+  return cam;
+}
+
+}  // namespace
+
+StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open calibration file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::ParserException& e) {
+    throw Error(path.string() + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+  }
+  const std::string source = path.string();
+  StereoCalibration c;
+  YamlMap top(root, "", source);
+  top.require("image_width", c.image_width);
+  top.require("image_height", c.image_height);
+  if (!top.has("left")) top.fail("left", "missing required key");
+  if (!top.has("right")) top.fail("right", "missing required key");
+  c.left = parse_camera(top.child("left"));
+  c.right = parse_camera(top.child("right"));
+  top.get("rectified", c.rectified);
+  std::vector<double> r, t;
+  if (top.has("R")) {
+    top.get("R", r, 9);
+    c.R = matrix3(r);
+  } else if (!c.rectified) {
+    top.fail("R", "missing required key");
+  }
+  if (!top.has("T")) top.fail("T", "missing required key");
+  top.get("T", t, 3);
+  c.T = Eigen::Vector3d(t[0], t[1], t[2]);
+  if (top.has("T_body_left")) {
+    YamlMap b = top.child("T_body_left");
+    std::vector<double> tr{0, 0, 0};
+    b.get("translation", tr, 3);
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    if (b.has("rpy_deg") && b.has("quaternion"))
+      b.fail("quaternion", "give either rpy_deg or quaternion, not both");
+    if (b.has("rpy_deg")) {
+      std::vector<double> rpy;
+      b.get("rpy_deg", rpy, 3);
+      const double d2r = M_PI / 180.0;
+      rot = rotation_from_rpy(rpy[0] * d2r, rpy[1] * d2r, rpy[2] * d2r);
+    } else if (b.has("quaternion")) {
+      std::vector<double> q;
+      b.get("quaternion", q, 4);
+      const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);  // stored scalar last
+      if (std::abs(quat.norm() - 1.0) > 1e-3)
+        b.fail("quaternion", "is not a unit quaternion (norm " + std::to_string(quat.norm()) + ")");
+      rot = quat.normalized().toRotationMatrix();
+    }
+    b.finish();
+    c.T_B_C.linear() = rot;
+    c.T_B_C.translation() = Eigen::Vector3d(tr[0], tr[1], tr[2]);
+  }
+  top.finish();
+  validate(c, source);
+  return c;
+}
+
+void validate(const StereoCalibration& c, const std::string& source) {
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw Error(source + ": key '" + key + "': " + what);
+  };
+  if (c.image_width <= 0) fail("image_width", "must be > 0");
+  if (c.image_height <= 0) fail("image_height", "must be > 0");
+  for (const auto* cam : {&c.left, &c.right}) {
+    const char* name = cam == &c.left ? "left.K" : "right.K";
+    if (!(cam->K(0, 0) > 0 && cam->K(1, 1) > 0)) fail(name, "focal lengths must be > 0");
+    if (cam->K(2, 2) != 1.0 || cam->K(1, 0) != 0 || cam->K(2, 0) != 0 || cam->K(2, 1) != 0)
+      fail(name, "must be an upper-triangular camera matrix with K[2][2] = 1");
+  }
+  if (!c.R.isUnitary(1e-4) || c.R.determinant() < 0) fail("R", "is not a rotation matrix");
+  if (!(c.T.norm() > 0)) fail("T", "baseline must be non-zero");
+  if (c.rectified) {
+    for (double d : c.left.D)
+      if (d != 0) fail("left.D", "must be zero for a rectified sequence");
+    for (double d : c.right.D)
+      if (d != 0) fail("right.D", "must be zero for a rectified sequence");
+    if (!c.R.isIdentity(1e-9)) fail("R", "must be the identity for a rectified sequence");
+    if (!(c.T.x() < 0) || c.T.y() != 0 || c.T.z() != 0)
+      fail("T", "must be [-B, 0, 0] for a rectified sequence");
+  }
+}
+
+}  // namespace hazmap

@@ -1,0 +1,141 @@
+#include "hazmap/io/sequence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hazmap/core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace hazmap {
+namespace {
+
+bool is_image(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  return ext == ".png";
+}
+
+std::map<std::string, fs::path> list_images(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw Error(dir.string() + ": image folder not found");
+  std::map<std::string, fs::path> images;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_regular_file() && is_image(entry.path()))
+      images.emplace(entry.path().stem().string(), entry.path());
+  }
+  return images;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, FramePose>> parse_poses(const std::string& text,
+                                                           const std::string& source) {
+  std::vector<std::pair<std::string, FramePose>> poses;
+  std::set<std::string> seen;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream fields(line);
+    std::vector<std::string> tokens;
+    for (std::string tok; fields >> tok;) tokens.push_back(tok);
+    if (tokens.empty()) continue;
+    auto fail = [&](const std::string& what) {
+      return Error(source + ":" + std::to_string(line_no) + ": " + what);
+    };
+    if (tokens.size() != 9 && tokens.size() != 13)
+      throw fail("expected 9 fields (name t x y z qx qy qz qw) or 13 (+ sx sy sz syaw), found " +
+                 std::to_string(tokens.size()));
+    double v[12];
+    for (size_t i = 1; i < tokens.size(); ++i) {
+      char* end = nullptr;
+      v[i - 1] = std::strtod(tokens[i].c_str(), &end);
+      if (*end != '\0' || !std::isfinite(v[i - 1]))
+        throw fail("field " + std::to_string(i + 1) + " is not a number: '" + tokens[i] + "'");
+    }
+    const std::string& name = tokens[0];
+    if (!seen.insert(name).second) throw fail("second pose for frame '" + name + "'");
+    FramePose pose;
+    pose.t_s = v[0];
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // file order qx qy qz qw
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      throw fail("quaternion of frame '" + name + "' is not a unit quaternion (norm " +
+                 std::to_string(q.norm()) + ")");
+    pose.T_W_B.linear() = q.normalized().toRotationMatrix();
+    pose.T_W_B.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+    if (tokens.size() == 13) {
+      for (int i = 8; i < 12; ++i)
+        if (v[i] < 0) throw fail("pose noise of frame '" + name + "' must be >= 0");
+      pose.noise = PoseNoise{v[8], v[9], v[10], v[11]};
+      pose.has_noise = true;
+    }
+    poses.emplace_back(name, pose);
+  }
+  return poses;
+}
+
+Sequence load_sequence(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw Error(dir.string() + ": sequence folder not found");
+  Sequence seq;
+  seq.dir = dir;
+  seq.calibration = load_stereo_calibration(dir / "calibration.yaml");
+
+  const auto lefts = list_images(dir / "left");
+  const auto rights = list_images(dir / "right");
+  if (lefts.empty()) throw Error((dir / "left").string() + ": no PNG images");
+  for (const auto& [name, path] : lefts)
+    if (!rights.count(name))
+      throw Error((dir / "right" / (name + ".png")).string() + ": missing (right image of " +
+                  path.string() + ")");
+  for (const auto& [name, path] : rights)
+    if (!lefts.count(name))
+      throw Error((dir / "left" / (name + ".png")).string() + ": missing (left image of " +
+                  path.string() + ")");
+
+  const fs::path poses_path = dir / "poses.txt";
+  std::ifstream in(poses_path);
+  if (!in) throw Error(poses_path.string() + ": cannot open pose file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::map<std::string, FramePose> poses;
+  for (auto& [name, pose] : parse_poses(text.str(), poses_path.string())) poses[name] = pose;
+
+  for (const auto& [name, left_path] : lefts) {
+    const auto it = poses.find(name);
+    if (it == poses.end())
+      throw Error(poses_path.string() + ": no pose for frame '" + name + "' (" +
+                  left_path.string() + ")");
+    seq.frames.push_back(SequenceFrame{name, left_path, rights.at(name), it->second});
+  }
+  return seq;
+}
+
+std::vector<SequenceFrame> select_frames(const std::vector<SequenceFrame>& frames,
+                                         const std::string& range) {
+  const auto colon = range.find(':');
+  if (colon == std::string::npos) throw Error("--frames " + range + ": expected A:B");
+  const long n = static_cast<long>(frames.size());
+  auto parse = [&](const std::string& s, long fallback) {
+    if (s.empty()) return fallback;
+    char* end = nullptr;
+    long v = std::strtol(s.c_str(), &end, 10);
+    if (*end != '\0') throw Error("--frames " + range + ": '" + s + "' is not an integer");
+    if (v < 0) v += n;
+    return std::clamp(v, 0L, n);
+  };
+  const long first = parse(range.substr(0, colon), 0);
+  const long last = parse(range.substr(colon + 1), n);
+  if (first >= last)
+    throw Error("--frames " + range + ": selects no frame of " + std::to_string(n));
+  return std::vector<SequenceFrame>(frames.begin() + first, frames.begin() + last);
+}
+
+}  // namespace hazmap

@@ -1,0 +1,181 @@
+#include "yaml_access.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "hazmap/core/error.hpp"
+
+namespace hazmap {
+
+std::string yaml_location(const YAML::Node& node, const std::string& source) {
+  const YAML::Mark mark = node.Mark();
+  if (mark.line >= 0 && !mark.is_null()) return source + ":" + std::to_string(mark.line + 1) + ": ";
+  return source + ": ";
+}
+
+YamlMap::YamlMap(const YAML::Node& node, std::string path, std::string source)
+    : node_(node), path_(std::move(path)), source_(std::move(source)) {
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
+    throw Error(yaml_location(node_, source_) + "key '" + (path_.empty() ? "<top>" : path_) +
+                "': expected a map of keys");
+}
+
+std::string YamlMap::key_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+void YamlMap::fail(const std::string& key, const std::string& what) const {
+  YAML::Node at = node_;
+  if (node_.IsMap() && node_[key]) at = node_[key];
+  throw Error(yaml_location(at, source_) + "key '" + key_path(key) + "': " + what);
+}
+
+bool YamlMap::has(const std::string& key) const {
+  return node_.IsMap() && node_[key] && !node_[key].IsNull();
+}
+
+YAML::Node YamlMap::scalar(const std::string& key) {
+  read_.insert(key);
+  YAML::Node n = node_[key];
+  if (!n.IsScalar()) fail(key, "expected a single value");
+  return n;
+}
+
+void YamlMap::get(const std::string& key, int& out) {
+  if (!has(key)) return;
+  const std::string text = scalar(key).Scalar();
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < -2147483647L || v > 2147483647L)
+    fail(key, "expected an integer, found '" + text + "'");
+  out = static_cast<int>(v);
+}
+
+void YamlMap::get(const std::string& key, double& out) {
+  if (!has(key)) return;
+  const std::string text = scalar(key).Scalar();
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    fail(key, "expected a number, found '" + text + "'");
+  out = v;
+}
+
+void YamlMap::get(const std::string& key, bool& out) {
+  if (!has(key)) return;
+  const std::string text = scalar(key).Scalar();
+  if (text == "true" || text == "True" || text == "yes" || text == "on") out = true;
+  else if (text == "false" || text == "False" || text == "no" || text == "off") out = false;
+  else fail(key, "expected true or false, found '" + text + "'");
+}
+
+void YamlMap::get(const std::string& key, std::string& out) {
+  if (!has(key)) return;
+  out = scalar(key).Scalar();
+}
+
+void YamlMap::get(const std::string& key, std::vector<double>& out, size_t expected_size) {
+  if (!has(key)) return;
+  read_.insert(key);
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence() || n.size() != expected_size)
+    fail(key, "expected a list of " + std::to_string(expected_size) + " numbers");
+  out.clear();
+  for (const auto& item : n) {
+    const std::string text = item.IsScalar() ? item.Scalar() : "";
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      fail(key, "expected numbers, found '" + text + "'");
+    out.push_back(v);
+  }
+}
+
+YamlMap YamlMap::child(const std::string& key) {
+  read_.insert(key);
+  if (!has(key)) return YamlMap(YAML::Node(), key_path(key), source_);
+  if (!node_[key].IsMap()) fail(key, "expected a map of keys");
+  return YamlMap(node_[key], key_path(key), source_);
+}
+
+YAML::Node YamlMap::sequence(const std::string& key) {
+  read_.insert(key);
+  if (!has(key)) return YAML::Node(YAML::NodeType::Sequence);
+  if (!node_[key].IsSequence()) fail(key, "expected a list");
+  return node_[key];
+}
+
+YAML::Node YamlMap::raw(const std::string& key) {
+  read_.insert(key);
+  return node_[key];
+}
+
+void YamlMap::finish() const {
+  if (!node_.IsMap()) return;
+  for (const auto& item : node_) {
+    const std::string key = item.first.Scalar();
+    if (!read_.count(key))
+      throw Error(yaml_location(item.first, source_) + "unknown key '" + key_path(key) + "'");
+  }
+}
+
+namespace {
+
+void set_path(YAML::Node node, const std::vector<std::string>& parts, size_t i,
+              const YAML::Node& value, const std::string& assignment) {
+  const std::string& part = parts[i];
+  const bool last = i + 1 == parts.size();
+  std::string prefix;
+  for (size_t k = 0; k <= i; ++k) prefix += (k ? "." : "") + parts[k];
+  if (node.IsSequence()) {
+    char* end = nullptr;
+    const long index = std::strtol(part.c_str(), &end, 10);
+    if (part.empty() || *end != '\0' || index < 0 || static_cast<size_t>(index) >= node.size())
+      throw Error("--set " + assignment + ": '" + prefix + "' is not an element of a list of " +
+                  std::to_string(node.size()));
+    if (last) {
+      node[static_cast<size_t>(index)] = value;
+      return;
+    }
+    set_path(node[static_cast<size_t>(index)], parts, i + 1, value, assignment);
+    return;
+  }
+  if (node.IsDefined() && !node.IsNull() && !node.IsMap())
+    throw Error("--set " + assignment + ": '" + prefix + "' is inside a value, not a map");
+  if (last) {
+    node[part] = value;
+    return;
+  }
+  if (!node[part] || node[part].IsNull()) node[part] = YAML::Node(YAML::NodeType::Map);
+  set_path(node[part], parts, i + 1, value, assignment);
+}
+
+}  // namespace
+
+void apply_yaml_override(YAML::Node& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error("--set " + assignment + ": expected KEY=VALUE");
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const auto dot = key.find('.', start);
+    parts.push_back(key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  for (const auto& p : parts)
+    if (p.empty()) throw Error("--set " + assignment + ": empty key component");
+  YAML::Node value;
+  try {
+    value = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw Error("--set " + assignment + ": value is not valid YAML: " + e.msg);
+  }
+  if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  set_path(root, parts, 0, value, assignment);
+}
+
+}  // namespace hazmap

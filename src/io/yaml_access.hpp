@@ -1,0 +1,64 @@
+#pragma once
+// Strict, typed access to a YAML mapping (private to the library). Every read names
+// the dotted key and the source line in its error; finish() rejects keys nobody read.
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace hazmap {
+
+class YamlMap {
+ public:
+  /// `node` must be a map (or null/undefined, treated as empty). `path` is the dotted
+  /// prefix for messages ("" at the top), `source` the file name.
+  YamlMap(const YAML::Node& node, std::string path, std::string source);
+
+  bool has(const std::string& key) const;
+
+  /// Reads key into `out` when present (keeps the default otherwise).
+  void get(const std::string& key, int& out);
+  void get(const std::string& key, double& out);
+  void get(const std::string& key, bool& out);
+  void get(const std::string& key, std::string& out);
+  void get(const std::string& key, std::vector<double>& out, size_t expected_size);
+
+  /// Like get, but the key must be present.
+  template <class T>
+  void require(const std::string& key, T& out) {
+    if (!has(key)) fail(key, "missing required key");
+    get(key, out);
+  }
+
+  /// A nested map (empty when absent). Throws if the key holds no map.
+  YamlMap child(const std::string& key);
+  /// A nested sequence node (marks the key as read). Throws if not a sequence.
+  YAML::Node sequence(const std::string& key);
+  /// The raw node (marks the key as read).
+  YAML::Node raw(const std::string& key);
+
+  /// Throws Error naming the first key that was never read.
+  void finish() const;
+
+  std::string key_path(const std::string& key) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+  const std::string& source() const { return source_; }
+
+ private:
+  YAML::Node scalar(const std::string& key);
+
+  YAML::Node node_;
+  std::string path_;
+  std::string source_;
+  std::set<std::string> read_;
+};
+
+/// "source:line: " for a node with a mark, "source: " otherwise.
+std::string yaml_location(const YAML::Node& node, const std::string& source);
+
+/// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index.
+void apply_yaml_override(YAML::Node& root, const std::string& assignment);
+
+}  // namespace hazmap

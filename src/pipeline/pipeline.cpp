@@ -1,0 +1,84 @@
+#include "hazmap/pipeline/pipeline.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "hazmap/hazard/fused_hazard.hpp"
+#include "hazmap/io/images.hpp"
+
+namespace hazmap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& hazard) {
+  RoughnessParams p;
+  p.kernel = layer.hazard.kernel;
+  p.min_fill = hazard.min_kernel_fill;
+  p.threshold_m = layer.hazard.roughness_threshold_m >= 0
+                      ? layer.hazard.roughness_threshold_m
+                      : (p.kernel - 1) * layer.resolution_m *
+                            std::tan(hazard.max_slope_deg * M_PI / 180.0);
+  return p;
+}
+
+Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
+    : config_(config),
+      rectifier_(calibration, config.stereo.rectify_alpha),
+      matcher_(config.stereo),
+      builder_(config.stereo, config.sensor, rectifier_.geometry(), rectifier_.R1(),
+               calibration.T_B_C, rectifier_.valid_roi()),
+      map_(config.map, config.rules),
+      views_(config.map.layers.size()) {
+  for (const auto& layer : config.map.layers)
+    roughness_params_.push_back(roughness_params(layer, config.hazard));
+  for (const auto& view : views_) hazard_ptrs_.push_back(&view.hazard);
+}
+
+FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B) {
+  FrameReport report;
+  auto t = Clock::now();
+  to_gray8(left, grey_left_);
+  to_gray8(right, grey_right_);
+  rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
+  report.ms.rectify_ms = ms_since(t);
+
+  t = Clock::now();
+  matcher_.compute(rect_left_, rect_right_, disparity_);
+  report.ms.disparity_ms = ms_since(t);
+
+  t = Clock::now();
+  builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  report.points = cloud_.size();
+  report.ms.points_ms = ms_since(t);
+
+  t = Clock::now();
+  const Eigen::Vector3d robot = T_W_B.translation();
+  map_.begin_frame(robot.x(), robot.y());
+  report.updates = map_.insert(cloud_);
+  report.ms.map_ms = ms_since(t);
+
+  t = Clock::now();
+  analyse_hazards();
+  report.ms.hazard_ms = ms_since(t);
+  return report;
+}
+
+void Pipeline::analyse_hazards() {
+  for (size_t i = 0; i < map_.size(); ++i) {
+    LayerView& view = views_[i];
+    map_.layer(i).export_height(view.height);
+    map_.layer(i).export_variance(view.variance);
+    roughness_.compute(view.height, roughness_params_[i].kernel, view.roughness, view.fill);
+    classify_roughness(view.height, view.roughness, view.fill, roughness_params_[i], view.hazard);
+  }
+  fuse_hazards(hazard_ptrs_, fused_);
+}
+
+}  // namespace hazmap

@@ -1,0 +1,172 @@
+#include "hazmap/pipeline/sequence_runner.hpp"
+
+#include <chrono>
+
+#include <spdlog/spdlog.h>
+
+#include "hazmap/core/error.hpp"
+#include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/images.hpp"
+#include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/output_writer.hpp"
+#include "hazmap/pipeline/pipeline.hpp"
+#include "json_writer.hpp"
+
+namespace hazmap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct FrameRecord {
+  std::string name;
+  size_t points = 0;
+  double read_ms = 0, write_ms = 0;
+  StageTimes ms;
+  bool written = false;
+  std::vector<HazardAreas> areas;  ///< per layer, then fused (written frames only)
+};
+
+void write_summary(const std::filesystem::path& path, const Config& config,
+                   const RunOptions& options, const std::vector<FrameRecord>& frames,
+                   int frames_total, bool finished) {
+  JsonWriter j;
+  j.begin_object();
+  j.key("hazmap_version").value(HAZMAP_VERSION);
+  j.key("finished").value(finished);
+  j.key("sequence").value(options.sequence_dir.string());
+  j.key("config").value(options.config_path.string());
+  j.key("frames_selected").value(frames_total);
+  j.key("frames_processed").value(frames.size());
+  size_t points = 0;
+  StageTimes sum;
+  double read = 0, write = 0;
+  for (const auto& f : frames) {
+    points += f.points;
+    sum.rectify_ms += f.ms.rectify_ms;
+    sum.disparity_ms += f.ms.disparity_ms;
+    sum.points_ms += f.ms.points_ms;
+    sum.map_ms += f.ms.map_ms;
+    sum.hazard_ms += f.ms.hazard_ms;
+    read += f.read_ms;
+    write += f.write_ms;
+  }
+  j.key("points_total").value(points);
+  const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
+  j.key("mean_ms_per_frame").begin_object();
+  j.key("read").value(read / n);
+  j.key("rectify").value(sum.rectify_ms / n);
+  j.key("disparity").value(sum.disparity_ms / n);
+  j.key("points").value(sum.points_ms / n);
+  j.key("map").value(sum.map_ms / n);
+  j.key("hazard").value(sum.hazard_ms / n);
+  j.key("write").value(write / n);
+  j.key("total").value((read + sum.total() + write) / n);
+  j.end_object();
+  j.key("map_ns_per_point").value(points ? sum.map_ms * 1e6 / static_cast<double>(points) : 0.0);
+  j.key("layers").begin_array();
+  for (const auto& l : config.map.layers) {
+    j.begin_object();
+    j.key("resolution_m").value(l.resolution_m);
+    j.key("size").value(l.size);
+    j.key("rule").value(rule_name(l.rule));
+    j.end_object();
+  }
+  j.end_array();
+  j.key("frames").begin_array();
+  for (const auto& f : frames) {
+    j.begin_object();
+    j.key("name").value(f.name);
+    j.key("points").value(f.points);
+    j.key("written").value(f.written);
+    j.key("ms").begin_object();
+    j.key("read").value(f.read_ms);
+    j.key("rectify").value(f.ms.rectify_ms);
+    j.key("disparity").value(f.ms.disparity_ms);
+    j.key("points").value(f.ms.points_ms);
+    j.key("map").value(f.ms.map_ms);
+    j.key("hazard").value(f.ms.hazard_ms);
+    j.key("write").value(f.write_ms);
+    j.end_object();
+    if (f.written) {
+      j.key("areas_m2").begin_array();
+      for (size_t i = 0; i < f.areas.size(); ++i) {
+        j.begin_object();
+        j.key("layer").value(i + 1 == f.areas.size() ? std::string("fused") : "L" + std::to_string(i));
+        j.key("hazard").value(f.areas[i].hazard_m2);
+        j.key("traversable").value(f.areas[i].traversable_m2);
+        j.key("unknown").value(f.areas[i].unknown_m2);
+        j.end_object();
+      }
+      j.end_array();
+    }
+    j.end_object();
+  }
+  j.end_array();
+  j.key("settings_yaml").value(to_yaml(config));
+  j.end_object();
+  write_file_atomically(path, j.str());
+}
+
+}  // namespace
+
+RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
+  const std::vector<SequenceFrame> frames =
+      options.frames.empty() ? sequence.frames : select_frames(sequence.frames, options.frames);
+  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
+               frames.size(), sequence.frames.size(), sequence.calibration.image_width,
+               sequence.calibration.image_height);
+
+  Pipeline pipeline(config, sequence.calibration);
+  const StereoGeometry& g = pipeline.rectifier().geometry();
+  spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
+               g.baseline_m, g.cx_px, g.cy_px);
+
+  RunResult result;
+  std::vector<FrameRecord> records;
+  records.reserve(frames.size());
+  const int n = static_cast<int>(frames.size());
+  for (int i = 0; i < n; ++i) {
+    const SequenceFrame& frame = frames[static_cast<size_t>(i)];
+    FrameRecord rec;
+    rec.name = frame.name;
+    auto t = Clock::now();
+    const cv::Mat left = read_image(frame.left_path);
+    const cv::Mat right = read_image(frame.right_path);
+    rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+
+    FrameReport report;
+    try {
+      report = pipeline.process(left, right, frame.pose.T_W_B);
+    } catch (const Error& e) {
+      throw Error(frame.left_path.string() + ": " + e.what());
+    }
+    rec.points = report.points;
+    rec.ms = report.ms;
+
+    const bool write = i % config.output.every_n == 0 || i == n - 1;
+    if (write) {
+      t = Clock::now();
+      const std::filesystem::path dir = options.out_dir / "frames" / frame.name;
+      write_frame_outputs(dir, frame.name, pipeline, frame.pose.T_W_B, config.output);
+      for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
+      rec.areas.push_back(hazard_areas(pipeline.fused_hazard()));
+      rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+      rec.written = true;
+      result.written.push_back(dir);
+      ++result.frames_written;
+    }
+    result.points_total += report.points;
+    ++result.frames_processed;
+    spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
+                 "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
+                 i + 1, n, frame.name, report.points,
+                 rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms, report.ms.rectify_ms,
+                 report.ms.disparity_ms, report.ms.points_ms, report.ms.map_ms,
+                 report.ms.hazard_ms, rec.write_ms);
+    records.push_back(std::move(rec));
+    write_summary(options.out_dir / "summary.json", config, options, records, n, i == n - 1);
+  }
+  return result;
+}
+
+}  // namespace hazmap

@@ -1,0 +1,63 @@
+#include "hazmap/stereo/point_cloud_builder.hpp"
+
+#include <algorithm>
+
+namespace hazmap {
+
+PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
+                                     const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
+                                     const Pose3d& T_B_C, const cv::Rect& valid_roi)
+    : stereo_(stereo),
+      sensor_(sensor),
+      model_(sensor.model == "ray" ? SensorModel::ray : SensorModel::axis),
+      geometry_(geometry),
+      roi_(valid_roi) {
+  Pose3d T_C_Cr = Pose3d::Identity();
+  T_C_Cr.linear() = R1.transpose();
+  T_B_Cr_ = T_B_C * T_C_Cr;
+}
+
+Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
+  return T_W_B * T_B_Cr_;
+}
+
+void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
+                              const Pose3d& T_W_B, PointCloud& cloud) const {
+  cloud.clear();
+  const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
+  const Eigen::Matrix3d R = T_W_Cr.linear();
+  const Eigen::Vector3d t = T_W_Cr.translation();
+  const double fb = geometry_.focal_px * geometry_.baseline_m;
+  // Disparity bounds equivalent to the depth gate, so the gate costs one compare.
+  const double d_min = fb / stereo_.z_max_m, d_max = fb / stereo_.z_min_m;
+  const int step = stereo_.stride;
+  const cv::Rect roi = roi_ & cv::Rect(0, 0, disparity_x16.cols, disparity_x16.rows);
+  for (int v = roi.y; v < roi.y + roi.height; v += step) {
+    const int16_t* row = disparity_x16.ptr<int16_t>(v);
+    for (int u = roi.x; u < roi.x + roi.width; u += step) {
+      const int d16 = row[u];
+      if (d16 <= invalid_below_x16 || d16 <= 0) continue;
+      const double d = d16 / 16.0;
+      if (d < d_min || d > d_max) continue;
+      const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d);
+      const Eigen::Matrix3d cov_C =
+          model_ == SensorModel::axis
+              ? covariance_axis(geometry_, p_C.z(), sensor_.pointing_error_px,
+                                sensor_.disparity_error_px)
+              : covariance_ray(geometry_, u, v, d, sensor_.pointing_error_px,
+                               sensor_.disparity_error_px);
+      const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
+      Measurement m;
+      m.p_W = (R * p_C + t).cast<float>();
+      m.cov_xx = static_cast<float>(cov_W(0, 0));
+      m.cov_xy = static_cast<float>(cov_W(0, 1));
+      m.cov_xz = static_cast<float>(cov_W(0, 2));
+      m.cov_yy = static_cast<float>(cov_W(1, 1));
+      m.cov_yz = static_cast<float>(cov_W(1, 2));
+      m.cov_zz = static_cast<float>(cov_W(2, 2));
+      cloud.push_back(m);
+    }
+  }
+}
+
+}  // namespace hazmap

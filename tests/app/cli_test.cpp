@@ -1,0 +1,149 @@
+// Runs the real `hazmap` executable and checks exit codes, the one-line errors and the
+// files it writes.
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/io/jdem.hpp"
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string stderr_text;
+};
+
+/// Runs the CLI with `args`; captures stderr (stdout is discarded).
+CommandResult run_cli(const std::string& args) {
+  const std::string cmd = std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  CommandResult r;
+  if (!pipe) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.stderr_text.append(buf, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string tiny_run_args(const testing::TempDir& dir) {
+  return "run --config " + (testing::source_dir() / "config/default.yaml").string() +
+         " --sequence " + (dir / "seq").string() + " --out " + (dir / "out").string() +
+         " --set stereo.num_disparities=16 --set stereo.block_size=5 --set "
+         "map.layers.0.size=16 --set map.layers.0.hazard.kernel=3 --set stereo.z_max=10";
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST(Cli, VersionAndHelpExitZero) {
+  EXPECT_EQ(run_cli("--version").exit_code, 0);
+  EXPECT_EQ(run_cli("--help").exit_code, 0);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(run_cli("").exit_code, 2);
+  EXPECT_EQ(run_cli("fly").exit_code, 2);
+  EXPECT_EQ(run_cli("run --config x.yaml").exit_code, 2);  // missing --sequence/--out
+  EXPECT_EQ(run_cli("run --bogus 1").exit_code, 2);
+  EXPECT_EQ(run_cli("evaluate --run a --sequence b").exit_code, 2);  // not implemented yet
+}
+
+TEST(Cli, RunWritesEveryOutputOfEveryFrame) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 3);
+  const CommandResult r = run_cli(tiny_run_args(dir) + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  EXPECT_EQ(r.stderr_text, "");  // --quiet: no progress
+  for (const char* frame : {"000000", "000001", "000002"}) {
+    const auto f = dir / "out/frames" / frame;
+    for (const char* file : {"L0_hazard.png", "L0_height.png", "L0_height.jdem",
+                             "L0_variance.jdem", "L0_hazard.jdem", "fused_hazard.png",
+                             "fused_hazard.jdem"})
+      EXPECT_TRUE(std::filesystem::is_regular_file(f / file)) << f / file;
+    const JdemGrid h = read_jdem(f / "L0_height.jdem");
+    EXPECT_EQ(h.rows, 16);
+    EXPECT_EQ(h.meta("frame"), frame);
+  }
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir / "out/summary.json"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir / "out/run.log"));
+}
+
+TEST(Cli, ProgressShowsFrameCountPointsAndTime) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 2);
+  const CommandResult r = run_cli(tiny_run_args(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find("frame 1/2 000000: "), std::string::npos) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find("frame 2/2 000001: "), std::string::npos);
+  EXPECT_NE(r.stderr_text.find(" points, "), std::string::npos);
+  EXPECT_NE(r.stderr_text.find(" ms ("), std::string::npos);
+}
+
+TEST(Cli, MissingRightImageStopsWithOneLineNamingTheFile) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 3);
+  std::filesystem::remove(dir / "seq/right/000002.png");
+  const CommandResult r = run_cli(tiny_run_args(dir));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.stderr_text), 1) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find((dir / "seq/right/000002.png").string()), std::string::npos)
+      << r.stderr_text;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/frames"));
+}
+
+TEST(Cli, PosesLackingAFrameStopWithOneLineNamingTheFile) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 3);
+  std::ofstream(dir / "seq/poses.txt") << "000000 0 0 0 0 0 0 0 1\n000002 2 0 0 0 0 0 0 1\n";
+  const CommandResult r = run_cli(tiny_run_args(dir));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.stderr_text), 1) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find((dir / "seq/poses.txt").string() + ": no pose for frame '000001'"),
+            std::string::npos)
+      << r.stderr_text;
+}
+
+TEST(Cli, FailedRunLeavesEarlierOutputsIntact) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 1);
+  ASSERT_EQ(run_cli(tiny_run_args(dir) + " --quiet").exit_code, 0);
+  const auto jdem = dir / "out/frames/000000/L0_height.jdem";
+  std::ifstream before_in(jdem);
+  std::stringstream before;
+  before << before_in.rdbuf();
+  std::filesystem::remove(dir / "seq/calibration.yaml");
+  const CommandResult r = run_cli(tiny_run_args(dir));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.stderr_text.find("calibration.yaml: cannot open calibration file"), std::string::npos);
+  std::ifstream after_in(jdem);
+  std::stringstream after;
+  after << after_in.rdbuf();
+  EXPECT_EQ(before.str(), after.str());
+  std::ifstream log(dir / "out/run.log");
+  std::stringstream log_text;
+  log_text << log.rdbuf();
+  EXPECT_NE(log_text.str().find("done: 1 frames"), std::string::npos);  // first run's log kept
+}
+
+TEST(Cli, BadConfigKeyIsNamed) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 1);
+  const CommandResult r = run_cli(tiny_run_args(dir) + " --set stereo.colour=1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.stderr_text), 1);
+  EXPECT_NE(r.stderr_text.find("unknown key 'stereo.colour'"), std::string::npos) << r.stderr_text;
+}
+
+}  // namespace
+}  // namespace hazmap

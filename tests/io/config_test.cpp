@@ -1,0 +1,107 @@
+#include "hazmap/io/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include "hazmap/core/error.hpp"
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+const char* kMinimal = R"(
+map:
+  layers:
+    - {resolution: 0.01, size: 128, rule: kalman, hazard: {kernel: 7}}
+    - {resolution: 0.04, size: 64, rule: kalman}
+)";
+
+std::string config_error(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_config(yaml, "test.yaml", sets);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, ShippedDefaultLoads) {
+  const Config c = load_config(testing::source_dir() / "config/default.yaml");
+  ASSERT_EQ(c.map.layers.size(), 1u);
+  EXPECT_EQ(c.map.layers[0].rule, RuleKind::kalman);
+  EXPECT_DOUBLE_EQ(c.map.layers[0].resolution_m, 0.01);
+  EXPECT_EQ(c.map.layers[0].hazard.kernel, 7);
+  EXPECT_EQ(c.stereo.matcher, "bm");
+}
+
+TEST(Config, DefaultsFillMissingSections) {
+  const Config c = parse_config(kMinimal, "t");
+  EXPECT_EQ(c.stereo.num_disparities, 128);
+  EXPECT_DOUBLE_EQ(c.sensor.disparity_error_px, 0.25);
+  EXPECT_DOUBLE_EQ(c.hazard.max_slope_deg, 20.0);
+}
+
+TEST(Config, UnknownKeyIsNamedWithItsPathAndLine) {
+  const std::string msg = config_error(std::string(kMinimal) + "stereo:\n  blok_size: 9\n");
+  EXPECT_EQ(msg, "test.yaml:7: unknown key 'stereo.blok_size'");
+}
+
+TEST(Config, UnknownKeyInsideALayerIsNamed) {
+  const std::string msg =
+      config_error("map:\n  layers:\n    - {resolution: 0.01, size: 8, rule: kalman, colour: red}\n");
+  EXPECT_NE(msg.find("unknown key 'map.layers.0.colour'"), std::string::npos) << msg;
+}
+
+TEST(Config, WrongTypeIsNamed) {
+  const std::string msg = config_error(std::string(kMinimal) + "stereo: {block_size: eleven}\n");
+  EXPECT_NE(msg.find("key 'stereo.block_size': expected an integer, found 'eleven'"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(Config, ImpossibleValuesAreNamed) {
+  EXPECT_EQ(config_error("map:\n  layers:\n    - {resolution: 0.01, size: 127, rule: kalman}\n"),
+            "config: key 'map.layers.0.size': must be even and >= 2");
+  EXPECT_NE(config_error(std::string(kMinimal) + "sensor: {pointing_error_px: -1}\n")
+                .find("'sensor.pointing_error_px'"),
+            std::string::npos);
+  const std::string multiple = config_error(
+      "map:\n  layers:\n    - {resolution: 0.04, size: 8, rule: kalman}\n"
+      "    - {resolution: 0.06, size: 8, rule: kalman}\n");
+  EXPECT_NE(multiple.find("'map.layers.1.resolution': must be an integer multiple"),
+            std::string::npos)
+      << multiple;
+  EXPECT_NE(config_error(std::string(kMinimal) + "sensor: {model: cone}\n")
+                .find("'sensor.model': 'cone' is not one of axis | ray"),
+            std::string::npos);
+}
+
+TEST(Config, SetOverridesNestedKeysAndListElements) {
+  const Config c = parse_config(kMinimal, "t",
+                                {"stereo.matcher=sgbm", "map.layers.1.size=32",
+                                 "rules.kalman.time_inflation=0", "sensor.model=ray"});
+  EXPECT_EQ(c.stereo.matcher, "sgbm");
+  EXPECT_EQ(c.map.layers[1].size, 32);
+  EXPECT_EQ(c.rules.kalman.time_inflation_m2, 0.0);
+  EXPECT_EQ(c.sensor.model, "ray");
+}
+
+TEST(Config, SetOfUnknownKeyOrBadIndexFails) {
+  EXPECT_NE(config_error(kMinimal, {"stereo.nope=1"}).find("unknown key 'stereo.nope'"),
+            std::string::npos);
+  EXPECT_NE(config_error(kMinimal, {"map.layers.5.size=8"}).find("map.layers.5"),
+            std::string::npos);
+  EXPECT_NE(config_error(kMinimal, {"novalue"}).find("expected KEY=VALUE"), std::string::npos);
+}
+
+TEST(Config, DumpReparsesToTheSameValues) {
+  const Config c = parse_config(kMinimal, "t", {"stereo.block_size=15", "hazard.wheelbase=0.4"});
+  const Config again = parse_config(to_yaml(c), "dump");
+  EXPECT_EQ(again.stereo.block_size, 15);
+  EXPECT_DOUBLE_EQ(again.hazard.wheelbase_m, 0.4);
+  ASSERT_EQ(again.map.layers.size(), 2u);
+  EXPECT_DOUBLE_EQ(again.map.layers[1].resolution_m, 0.04);
+  EXPECT_EQ(to_yaml(again), to_yaml(c));
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,0 +1,90 @@
+#include "hazmap/io/sequence.hpp"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/core/error.hpp"
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+std::string load_error(const std::filesystem::path& dir) {
+  try {
+    load_sequence(dir);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Sequence, LoadsPairsPosesAndCalibrationInNameOrder) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir.path(), 3);
+  const Sequence seq = load_sequence(dir.path());
+  ASSERT_EQ(seq.frames.size(), 3u);
+  EXPECT_EQ(seq.frames[0].name, "000000");
+  EXPECT_EQ(seq.frames[2].name, "000002");
+  EXPECT_NEAR(seq.frames[2].pose.T_W_B.translation().x(), 0.08, 1e-12);
+  EXPECT_TRUE(seq.calibration.rectified);
+  EXPECT_EQ(seq.calibration.image_width, 64);
+}
+
+TEST(Sequence, MissingRightImageIsNamed) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir.path(), 3);
+  std::filesystem::remove(dir / "right/000001.png");
+  EXPECT_EQ(load_error(dir.path()), (dir / "right/000001.png").string() + ": missing (right image of " +
+                                        (dir / "left/000001.png").string() + ")");
+}
+
+TEST(Sequence, FrameWithoutPoseIsNamed) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir.path(), 2);
+  std::ofstream(dir / "poses.txt") << "000000 0 0 0 0 0 0 0 1\n";
+  EXPECT_EQ(load_error(dir.path()), (dir / "poses.txt").string() + ": no pose for frame '000001' (" +
+                                        (dir / "left/000001.png").string() + ")");
+}
+
+TEST(Sequence, MalformedPoseLineIsNamed) {
+  const std::string text = "# comment\n000000 0 0 0 0 0 0 0 1\n000001 1 0 0 0 0 0 1\n";
+  try {
+    parse_poses(text, "poses.txt");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "poses.txt:3: expected 9 fields (name t x y z qx qy qz qw) or 13 (+ sx sy sz "
+              "syaw), found 8");
+  }
+  EXPECT_THROW(parse_poses("a 0 0 0 0 0 0 0 2\n", "p"), Error);          // not unit
+  EXPECT_THROW(parse_poses("a 0 0 0 0 0 0 0 1\na 1 0 0 0 0 0 0 1\n", "p"), Error);  // duplicate
+  EXPECT_THROW(parse_poses("a 0 0 zero 0 0 0 0 1\n", "p"), Error);
+}
+
+TEST(Sequence, PoseQuaternionAndNoiseAreParsed) {
+  const auto poses = parse_poses("f 2.5 1 2 3 0 0 0.7071067811865476 0.7071067811865476 0.01 0.02 0.03 0.04\n", "p");
+  ASSERT_EQ(poses.size(), 1u);
+  const FramePose& p = poses[0].second;
+  EXPECT_DOUBLE_EQ(p.t_s, 2.5);
+  EXPECT_TRUE(p.has_noise);
+  EXPECT_DOUBLE_EQ(p.noise.syaw_rad, 0.04);
+  // 90 degrees about z: body x points along world y.
+  const Eigen::Vector3d x_W = p.T_W_B.linear() * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(x_W.y(), 1.0, 1e-12);
+  EXPECT_NEAR((p.T_W_B * Eigen::Vector3d::Zero() - Eigen::Vector3d(1, 2, 3)).norm(), 0, 1e-12);
+}
+
+TEST(Sequence, FrameRangesSelectLikePythonSlices) {
+  std::vector<SequenceFrame> frames(5);
+  for (int i = 0; i < 5; ++i) frames[i].name = std::to_string(i);
+  EXPECT_EQ(select_frames(frames, "1:3").size(), 2u);
+  EXPECT_EQ(select_frames(frames, "1:3").front().name, "1");
+  EXPECT_EQ(select_frames(frames, ":2").size(), 2u);
+  EXPECT_EQ(select_frames(frames, "-2:").front().name, "3");
+  EXPECT_THROW(select_frames(frames, "3:1"), Error);
+  EXPECT_THROW(select_frames(frames, "x:1"), Error);
+}
+
+}  // namespace
+}  // namespace hazmap

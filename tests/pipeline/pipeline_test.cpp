@@ -1,0 +1,133 @@
+// End to end on rendered images: simulate -> PNG files -> the whole pipeline.
+
+#include "hazmap/pipeline/pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/io/images.hpp"
+#include "hazmap/io/jdem.hpp"
+#include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/output_writer.hpp"
+#include "hazmap/pipeline/sequence_runner.hpp"
+#include "hazmap/sim/simulate.hpp"
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+/// Scale of the rendered test images relative to CADRE's 1600 x 1300.
+constexpr double kScale = 0.3;
+
+Config test_config() {
+  Config c = load_config(testing::source_dir() / "config/default.yaml");
+  c.stereo.num_disparities = 80;  // near ground at 0.3 scale: d ~ 70 px
+  return c;
+}
+
+/// Runs every frame of `seq_dir` through a Pipeline and returns it.
+std::unique_ptr<Pipeline> run_frames(const std::filesystem::path& seq_dir, const Config& config) {
+  const Sequence seq = load_sequence(seq_dir);
+  auto pipeline = std::make_unique<Pipeline>(config, seq.calibration);
+  for (const auto& f : seq.frames)
+    pipeline->process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
+  return pipeline;
+}
+
+TEST(Pipeline, FlatGroundIsMappedLevelAndTraversable) {
+  testing::TempDir dir;
+  sim::SimulationOptions sim;
+  sim.scenario = "flat";
+  sim.frames = 3;
+  sim.scale = kScale;
+  sim::simulate_sequence(sim, dir / "seq");
+  const auto pipeline = run_frames(dir / "seq", test_config());
+  const LayerView& view = pipeline->layers()[0];
+  std::vector<float> err;
+  int hazards = 0, traversable = 0;
+  for (size_t i = 0; i < view.height.values.size(); ++i) {
+    if (!std::isnan(view.height.values[i])) err.push_back(std::abs(view.height.values[i]));
+    hazards += view.hazard.values[i] == float(HazardClass::hazard);
+    traversable += view.hazard.values[i] == float(HazardClass::traversable);
+  }
+  // The ground ahead of the robot (about a third of the 128 x 128 window) is known.
+  ASSERT_GT(err.size(), 3000u);
+  std::sort(err.begin(), err.end());
+  EXPECT_LT(err[err.size() / 2], 0.003f);         // median |h| < 3 mm
+  EXPECT_LT(err[err.size() * 99 / 100], 0.015f);  // 99th percentile < 1.5 cm
+  EXPECT_EQ(hazards, 0);
+  EXPECT_GT(traversable, 2000);
+}
+
+TEST(Pipeline, RockIsAHazardAndOnlyNearTheRock) {
+  testing::TempDir dir;
+  sim::SimulationOptions sim;
+  sim.scenario = "flat";
+  sim.frames = 3;
+  sim.scale = kScale;
+  const sim::Rock rock{0.45, 0.05, 0.05, 0.0};
+  sim.extra_rocks.push_back(rock);
+  sim::simulate_sequence(sim, dir / "seq");
+  const auto pipeline = run_frames(dir / "seq", test_config());
+  const LayerView& view = pipeline->layers()[0];
+  int near = 0, far = 0;
+  for (int row = 0; row < view.hazard.rows; ++row)
+    for (int col = 0; col < view.hazard.cols; ++col) {
+      if (view.hazard.at(row, col) != float(HazardClass::hazard)) continue;
+      const double d = std::hypot(view.hazard.x_of_col(col) - rock.x_m,
+                                  view.hazard.y_of_row(row) - rock.y_m);
+      // Within the rock plus the kernel radius (3.5 cells) plus one cell.
+      (d <= rock.radius_m + 0.045 ? near : far)++;
+    }
+  EXPECT_GT(near, 20);
+  EXPECT_EQ(far, 0);
+}
+
+TEST(Pipeline, SampleSequenceRunWritesAllOutputsAndShowsAllThreeClasses) {
+  testing::TempDir dir;
+  const Config config = load_config(testing::source_dir() / "config/default.yaml");
+  const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
+  RunOptions options;
+  options.sequence_dir = seq.dir;
+  options.out_dir = dir / "out";
+  const RunResult result = run_sequence(config, seq, options);
+  ASSERT_EQ(result.frames_written, static_cast<int>(seq.frames.size()));
+  const auto last = dir / "out/frames" / seq.frames.back().name;
+  const JdemGrid hazard = read_jdem(last / "L0_hazard.jdem");
+  int count[3] = {0, 0, 0};
+  for (float v : hazard.values) count[static_cast<int>(v)]++;
+  EXPECT_GT(count[0], 100) << "unknown";
+  EXPECT_GT(count[1], 1000) << "traversable";
+  EXPECT_GT(count[2], 10) << "hazard";
+  // The PNG shows the same three palette colours.
+  const cv::Mat png = read_image(last / "L0_hazard.png");
+  int seen[3] = {0, 0, 0};
+  for (int r = 0; r < png.rows; ++r)
+    for (int c = 0; c < png.cols; ++c) {
+      const cv::Vec3b p = png.at<cv::Vec3b>(r, c);
+      seen[0] += p == cv::Vec3b(90, 90, 90);
+      seen[1] += p == cv::Vec3b(70, 170, 40);
+      seen[2] += p == cv::Vec3b(40, 40, 220);
+    }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir / "out/summary.json"));
+}
+
+TEST(Pipeline, DerivedRoughnessThresholdFollowsTheMaxSlope) {
+  LayerConfig layer;
+  layer.resolution_m = 0.04;
+  layer.hazard.kernel = 5;
+  HazardConfig hazard;
+  hazard.max_slope_deg = 20;
+  EXPECT_NEAR(roughness_params(layer, hazard).threshold_m, 4 * 0.04 * std::tan(20 * M_PI / 180),
+              1e-15);
+  layer.hazard.roughness_threshold_m = 0.073;
+  EXPECT_DOUBLE_EQ(roughness_params(layer, hazard).threshold_m, 0.073);
+}
+
+}  // namespace
+}  // namespace hazmap

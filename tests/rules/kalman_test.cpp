@@ -1,0 +1,71 @@
+#include "hazmap/rules/kalman.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/rules/bananas.hpp"
+
+namespace hazmap {
+namespace {
+
+TEST(KalmanRule, FirstPointInitialisesTheCell) {
+  KalmanRule::Cell c;
+  EXPECT_FALSE(KalmanRule::known(c));
+  KalmanRule::update({0.0, 0.0}, c, 0.25, 4e-6);
+  EXPECT_TRUE(KalmanRule::known(c));
+  EXPECT_FLOAT_EQ(c.mean_m, 0.25f);
+  EXPECT_FLOAT_EQ(c.variance_m2, 4e-6f);
+}
+
+TEST(KalmanRule, EqualsBatchInverseVarianceEstimate) {
+  // Batch: mu = sum(z/vm) / sum(1/vm), var = 1 / sum(1/vm), in double.
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> sigma(0.001, 0.03);
+  for (int trial = 0; trial < 50; ++trial) {
+    const double truth = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+    KalmanRule::Cell c;
+    double sum_w = 0, sum_wz = 0;
+    for (int i = 0; i < 200; ++i) {
+      const double s = sigma(rng);
+      const double z = truth + std::normal_distribution<double>(0.0, s)(rng);
+      KalmanRule::update({0.0, 0.0}, c, z, s * s);
+      sum_w += 1.0 / (s * s);
+      sum_wz += z / (s * s);
+    }
+    EXPECT_NEAR(c.mean_m, sum_wz / sum_w, 1e-5 * std::max(1.0, std::abs(sum_wz / sum_w)));
+    EXPECT_NEAR(c.variance_m2, 1.0 / sum_w, 1e-5 / sum_w);
+  }
+}
+
+TEST(KalmanRule, VarianceFloorStopsConvergence) {
+  const KalmanRule::Config cfg{0.0, 1e-6};
+  KalmanRule::Cell c;
+  for (int i = 0; i < 1000; ++i) KalmanRule::update(cfg, c, 0.0, 1e-5);
+  EXPECT_FLOAT_EQ(c.variance_m2, 1e-6f);
+  // At the floor each new measurement keeps a fixed weight vm_floor / (floor + vm).
+  KalmanRule::update(cfg, c, 1.0, 1e-5);
+  EXPECT_NEAR(c.mean_m, 1e-6 / (1e-6 + 1e-5), 1e-6);
+}
+
+TEST(KalmanRule, TimeInflationAddsQPerFrameToKnownCellsOnly) {
+  const KalmanRule::Config cfg{2e-6, 0.0};
+  KalmanRule::Cell known, unknown;
+  KalmanRule::update(cfg, known, 0.1, 1e-5);
+  for (int i = 0; i < 3; ++i) {
+    KalmanRule::begin_frame(cfg, known);
+    KalmanRule::begin_frame(cfg, unknown);
+  }
+  EXPECT_NEAR(known.variance_m2, 1e-5 + 3 * 2e-6, 1e-11);
+  EXPECT_FALSE(KalmanRule::known(unknown));
+}
+
+TEST(BananasRule, KeepsTheLastHeight) {
+  BananasRule::Cell c;
+  EXPECT_FALSE(BananasRule::known(c));
+  for (double z : {0.3, -0.1, 0.7}) BananasRule::update({}, c, z, 1.0);
+  EXPECT_FLOAT_EQ(BananasRule::height(c), 0.7f);
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,0 +1,73 @@
+#pragma once
+// Helpers shared by the tests: unique temporary folders that clean up after themselves.
+
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace hazmap::testing {
+
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() /
+            ("hazmap_" + std::string(info ? info->name() : "test") + "_" + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
+
+}  // namespace hazmap::testing
+
+#include <fstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/core/base.hpp>
+
+namespace hazmap::testing {
+
+/// Writes a tiny but complete sequence (random-texture 64 x 48 PNG pairs, a rectified
+/// calibration and straight-line poses) for input-handling tests.
+inline void write_tiny_sequence(const std::filesystem::path& dir, int frames) {
+  std::filesystem::create_directories(dir / "left");
+  std::filesystem::create_directories(dir / "right");
+  cv::RNG rng(12345);
+  std::ofstream poses(dir / "poses.txt");
+  poses << "# name t x y z qx qy qz qw\n";
+  for (int i = 0; i < frames; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", i);
+    cv::Mat img(48, 64, CV_8UC1);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 255);
+    cv::imwrite((dir / "left" / (std::string(name) + ".png")).string(), img);
+    // The right view sees the same texture 4 px to the left: disparity 4 everywhere.
+    cv::Mat right;
+    cv::copyMakeBorder(img.colRange(4, img.cols), right, 0, 0, 0, 4, cv::BORDER_REPLICATE);
+    cv::imwrite((dir / "right" / (std::string(name) + ".png")).string(), right);
+    poses << name << " " << i << " " << 0.04 * i << " 0 0 0 0 0 1\n";
+  }
+  std::ofstream calib(dir / "calibration.yaml");
+  calib << "image_width: 64\nimage_height: 48\nrectified: true\n"
+           "left:  {K: [50, 0, 31.5, 0, 50, 23.5, 0, 0, 1], D: [0, 0, 0, 0, 0]}\n"
+           "right: {K: [50, 0, 31.5, 0, 50, 23.5, 0, 0, 1], D: [0, 0, 0, 0, 0]}\n"
+           "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-0.05, 0, 0]\n"
+           "T_body_left: {translation: [0, 0.025, 0.15], rpy_deg: [-90, 0, -90]}\n";
+}
+
+}  // namespace hazmap::testing
