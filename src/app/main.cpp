@@ -30,14 +30,18 @@ usage:
   hazmap run      --config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--quiet]
   hazmap stereo   --config FILE --sequence DIR --out DIR [--frames A:B]
   hazmap simulate --scenario NAME --out DIR [--seed N] [--frames N] [--scale S] [--step M]
-                  [--ramp-deg D] [--ground-truth]
+                  [--ramp-deg D] [--samples N] [--noise-sigma DN] [--no-sun]
+                  [--ground-truth] [--gt-margin M]
   hazmap evaluate --run DIR --sequence DIR [--out DIR]
   hazmap --help | --version
 
 run       maps a stereo sequence: writes OUT/frames/<frame>/L<i>_{hazard,height}.png,
           L<i>_{height,variance,hazard}.jdem, fused_hazard.{png,jdem}, OUT/summary.json
           and OUT/run.log
-simulate  renders a synthetic sequence (scenarios: rocks, flat, ramp)
+simulate  renders a synthetic sequence (scenarios: rocks, flat, ramp) in the SPEC 2
+          layout: CADRE camera geometry at --scale (0.4: 640 x 520), --step metres per
+          frame along +x, --samples rays per pixel and axis, optional ground truth
+          (gt_height.jdem, gt_hazard.jdem) over the path +- --gt-margin metres
 --set     overrides a YAML key by dotted path, e.g. --set stereo.matcher=sgbm
           --set map.layers.0.size=64
 )";
@@ -150,8 +154,9 @@ int cmd_run(int argc, char** argv) {
 
 int cmd_simulate(int argc, char** argv) {
   const Args args = parse_args(argc, argv,
-                               {"scenario", "out", "seed", "frames", "scale", "step", "ramp-deg"},
-                               {"ground-truth", "quiet"});
+                               {"scenario", "out", "seed", "frames", "scale", "step", "ramp-deg",
+                                "samples", "noise-sigma", "gt-margin"},
+                               {"ground-truth", "no-sun", "quiet"});
   hazmap::sim::SimulationOptions options;
   options.scenario = args.get("scenario", options.scenario);
   const std::filesystem::path out = args.required("out");
@@ -162,6 +167,13 @@ int cmd_simulate(int argc, char** argv) {
   if (args.values.count("scale")) options.scale = to_number("scale", args.get("scale"));
   if (args.values.count("step")) options.step_m = to_number("step", args.get("step"));
   if (args.values.count("ramp-deg")) options.ramp_deg = to_number("ramp-deg", args.get("ramp-deg"));
+  if (args.values.count("samples"))
+    options.render.samples_per_axis = static_cast<int>(to_number("samples", args.get("samples")));
+  if (args.values.count("noise-sigma"))
+    options.render.noise_sigma_dn = to_number("noise-sigma", args.get("noise-sigma"));
+  if (args.values.count("gt-margin"))
+    options.ground_truth_margin_m = to_number("gt-margin", args.get("gt-margin"));
+  options.render.sun_shading = args.switches.count("no-sun") == 0;
   options.write_ground_truth = args.switches.count("ground-truth") > 0;
   setup_logging({}, args.switches.count("quiet") > 0);
   spdlog::info("simulating scenario '{}' (seed {}, {} frames, scale {}) into {}", options.scenario,

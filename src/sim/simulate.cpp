@@ -73,6 +73,7 @@ std::string calibration_yaml(const StereoRig& rig, double scale) {
       << num(scale) << ".\n"
       << "image_width: " << c.width_px << "\n"
       << "image_height: " << c.height_px << "\n"
+      << "rectified: true                  # ideal pinhole pair: no remapping needed\n"
       << "left:  {K: " << K << ", D: [0, 0, 0, 0, 0]}\n"
       << "right: {K: " << K << ", D: [0, 0, 0, 0, 0]}\n"
       << "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]   # x_right = R x_left + T\n"
@@ -156,6 +157,22 @@ GridFrame aligned_grid(double x0, double x1, double y0, double y1, double resolu
   return grid;
 }
 
+// Independent random streams from the one user seed: the first draws of a mt19937_64.
+struct Seeds {
+  std::uint64_t terrain = 0;
+  std::uint64_t texture = 0;
+  std::uint64_t image_noise = 0;
+};
+
+Seeds derive_seeds(std::uint64_t seed) {
+  std::mt19937_64 master(seed);
+  Seeds seeds;
+  seeds.terrain = master();
+  seeds.texture = master();
+  seeds.image_noise = master();
+  return seeds;
+}
+
 }  // namespace
 
 Pose3d StereoRig::T_B_CR() const {
@@ -219,7 +236,7 @@ Terrain make_simulation_terrain(const SimulationOptions& options) {
 
   TerrainOptions terrain;
   terrain.scenario = options.scenario;
-  terrain.seed = std::mt19937_64(options.seed)();  // first draw of the master stream
+  terrain.seed = derive_seeds(options.seed).terrain;
   terrain.center_W = Eigen::Vector2d(0.5 * (x_min + x_max), 0.0);
   terrain.size_x_m = x_max - x_min;
   terrain.size_y_m = 2.0 * half_y;
@@ -244,19 +261,13 @@ std::vector<Pose3d> simulation_path(const SimulationOptions& options, const Terr
 
 void simulate_sequence(const SimulationOptions& options, const std::filesystem::path& out_dir) {
   validate(options);
-  // Independent streams from one seed: terrain (drawn inside make_simulation_terrain),
-  // texture, image noise.
-  std::mt19937_64 master(options.seed);
-  master();  // terrain
-  const std::uint64_t texture_seed = master();
-  const std::uint64_t noise_seed = master();
-
+  const Seeds seeds = derive_seeds(options.seed);
   const Terrain terrain = make_simulation_terrain(options);
   const StereoRig rig = make_cadre_rig(options.scale);
   const std::vector<Pose3d> path = simulation_path(options, terrain);
-  const Renderer renderer(terrain, options.render, texture_seed);
+  const Renderer renderer(terrain, options.render, seeds.texture);
 
-  spdlog::info("simulate: scenario {}, seed {}, {} frames of {}x{} px, {} rocks -> {}",
+  spdlog::debug("simulate: scenario {}, seed {}, {} frames of {}x{} px, {} rocks -> {}",
                options.scenario, options.seed, options.frames, rig.camera.width_px,
                rig.camera.height_px, terrain.rocks().size(), out_dir.string());
 
@@ -268,7 +279,8 @@ void simulate_sequence(const SimulationOptions& options, const std::filesystem::
     const std::string name = frame_name(k);
     const Pose3d T_W_CL = path[k] * rig.T_B_CL;
     const Pose3d T_W_CR = path[k] * rig.T_B_CR();
-    const std::uint64_t frame_key = hash_combine(noise_seed, static_cast<std::uint64_t>(k));
+    const std::uint64_t frame_key =
+        hash_combine(seeds.image_noise, static_cast<std::uint64_t>(k));
     const cv::Mat left = renderer.render(rig.camera, T_W_CL, hash_combine(frame_key, 0));
     const cv::Mat right = renderer.render(rig.camera, T_W_CR, hash_combine(frame_key, 1));
     write_file_atomically(out_dir / "left" / (name + ".png"),

@@ -19,6 +19,12 @@ inline double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
 
 inline double lerp(double a, double b, double t) { return a + (b - a) * t; }
 
+// floor() as an integer without a libm call (baseline x86-64 has no inline roundsd).
+inline std::int64_t floor_to_int(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return i - static_cast<std::int64_t>(x < static_cast<double>(i));
+}
+
 // Random value in [-1, 1] at a lattice point. One finaliser over a linear combination of
 // the coordinates (large odd multipliers, no collisions at any practical range) is enough:
 // the texture is the renderer's hot spot.
@@ -107,12 +113,10 @@ double unit_double(std::uint64_t bits) {
 }
 
 double value_noise_2d(double x, double y, std::uint64_t key) {
-  const double fx = std::floor(x);
-  const double fy = std::floor(y);
-  const auto ix = static_cast<std::int64_t>(fx);
-  const auto iy = static_cast<std::int64_t>(fy);
-  const double tx = fade(x - fx);
-  const double ty = fade(y - fy);
+  const std::int64_t ix = floor_to_int(x);
+  const std::int64_t iy = floor_to_int(y);
+  const double tx = fade(x - static_cast<double>(ix));
+  const double ty = fade(y - static_cast<double>(iy));
   const double v00 = lattice_value(key, ix, iy);
   const double v10 = lattice_value(key, ix + 1, iy);
   const double v01 = lattice_value(key, ix, iy + 1);
@@ -121,15 +125,12 @@ double value_noise_2d(double x, double y, std::uint64_t key) {
 }
 
 double value_noise_3d(double x, double y, double z, std::uint64_t key) {
-  const double fx = std::floor(x);
-  const double fy = std::floor(y);
-  const double fz = std::floor(z);
-  const auto ix = static_cast<std::int64_t>(fx);
-  const auto iy = static_cast<std::int64_t>(fy);
-  const auto iz = static_cast<std::int64_t>(fz);
-  const double tx = fade(x - fx);
-  const double ty = fade(y - fy);
-  const double tz = fade(z - fz);
+  const std::int64_t ix = floor_to_int(x);
+  const std::int64_t iy = floor_to_int(y);
+  const std::int64_t iz = floor_to_int(z);
+  const double tx = fade(x - static_cast<double>(ix));
+  const double ty = fade(y - static_cast<double>(iy));
+  const double tz = fade(z - static_cast<double>(iz));
   double layer[2];
   for (int k = 0; k < 2; ++k) {
     const double v00 = lattice_value(key, ix, iy, iz + k);

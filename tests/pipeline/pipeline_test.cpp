@@ -23,7 +23,7 @@ constexpr double kScale = 0.3;
 
 Config test_config() {
   Config c = load_config(testing::source_dir() / "config/default.yaml");
-  c.stereo.num_disparities = 80;  // near ground at 0.3 scale: d ~ 70 px
+  c.stereo.num_disparities = 96;  // near ground at 0.3 scale: d up to 92 px
   return c;
 }
 

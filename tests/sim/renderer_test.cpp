@@ -15,13 +15,13 @@
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/sim/simulate.hpp"
 #include "hazmap/sim/terrain.hpp"
+#include "test_support.hpp"
 
 namespace hazmap::sim {
 namespace {
@@ -33,25 +33,6 @@ constexpr double kSurfaceToleranceM = 1e-4;   // hit point vs height_m
 constexpr double kPixelTolerancePx = 1e-6;    // reprojection, rectified rows
 constexpr double kRelativeDisparityTolerance = 1e-6;
 constexpr double kTestScale = 0.1;            // 160 x 130 px: fast
-
-// A fresh folder under the system temp folder, removed at the end of the test.
-class TempDir {
- public:
-  explicit TempDir(const std::string& name)
-      : path_(fs::temp_directory_path() /
-              ("hazmap_sim_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -290,7 +271,7 @@ TEST(Renderer, ImageIsIndependentOfThreadCount) {
 // Sequence files (SPEC 2)
 
 TEST(SimulateSequence, SameSeedSameBytesOtherSeedOtherImages) {
-  TempDir tmp("determinism");
+  testing::TempDir tmp;
   SimulationOptions options = small_options();
   options.write_ground_truth = true;
   options.ground_truth_margin_m = 0.3;
@@ -313,7 +294,7 @@ TEST(SimulateSequence, SameSeedSameBytesOtherSeedOtherImages) {
 }
 
 TEST(SimulateSequence, WritesCalibrationPosesAndGroundTruth) {
-  TempDir tmp("files");
+  testing::TempDir tmp;
   SimulationOptions options = small_options();
   options.frames = 3;
   options.write_ground_truth = true;
@@ -390,7 +371,7 @@ TEST(SimulateSequence, WritesCalibrationPosesAndGroundTruth) {
 }
 
 TEST(SimulateSequence, RejectsBadOptions) {
-  TempDir tmp("bad");
+  testing::TempDir tmp;
   SimulationOptions options = small_options();
   options.frames = 0;
   EXPECT_THROW(simulate_sequence(options, tmp.path()), Error);

@@ -76,7 +76,7 @@ struct RenderOptions {
   /// from 0.2 m (mm detail) to several metres (cm to dm detail).
   double texture_min_wavelength_m = 0.002;
   int texture_octaves = 9;
-  double texture_contrast = 0.45;  ///< standard deviation of the albedo around its mean
+  double texture_contrast = 0.45;  ///< relative std of the albedo: mean * (1 + c * N(0, 1))
   double ground_albedo = 0.5;      ///< mean albedo of the ground
   double rock_albedo = 0.45;       ///< mean albedo of rocks
   /// Lambertian sun; when off, every surface shows its albedo as if lit like flat ground.
