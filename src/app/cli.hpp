@@ -1,0 +1,62 @@
+#pragma once
+// Shared plumbing of the hazmap subcommands (private to the executable): flag parsing,
+// logging set-up, usage errors. Each subcommand lives in its own cmd_<name>.cpp.
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <spdlog/sinks/basic_file_sink.h>
+
+namespace hazmap::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;  ///< bad input or failed run (hazmap::Error)
+constexpr int kExitUsage = 2;  ///< bad command line, or a command not implemented yet
+
+/// A bad command line; main prints it with a pointer to --help and exits 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Flags of one subcommand: "--name value" (or --name=value) pairs, repeated --set, and
+/// boolean switches.
+struct Args {
+  std::map<std::string, std::string> values;
+  std::vector<std::string> sets;
+  std::map<std::string, bool> switches;
+
+  bool has(const std::string& name) const { return values.count(name) > 0; }
+  bool on(const std::string& name) const { return switches.count(name) > 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  std::string required(const std::string& name) const;
+  double number(const std::string& name) const;  ///< throws UsageError if not a number
+};
+
+/// Parses argv[2..]. `value_flags` take a value ("set" always does and may repeat);
+/// `switch_flags` take none. Unknown flags are UsageErrors.
+Args parse_args(int argc, char** argv, const std::vector<std::string>& value_flags,
+                const std::vector<std::string>& switch_flags);
+
+/// True when argv holds --help or -h after the command name.
+bool wants_help(int argc, char** argv);
+
+/// Console (stderr, bare messages; warnings only when quiet) plus, if log_path is not
+/// empty, an appending file sink with timestamps. Becomes spdlog's default logger.
+void setup_logging(const std::filesystem::path& log_path, bool quiet);
+
+/// Writes a line to the run log only (not the terminal); no-op without a log file.
+void log_to_file_only(const std::string& message, bool error = false);
+
+// The subcommands; each returns the process exit code.
+int cmd_run(int argc, char** argv);
+int cmd_stereo(int argc, char** argv);
+int cmd_simulate(int argc, char** argv);
+int cmd_evaluate(int argc, char** argv);
+int cmd_calibrate(int argc, char** argv);
+int cmd_import_euroc(int argc, char** argv);
+
+}  // namespace hazmap::cli
