@@ -1,14 +1,73 @@
 // hazmap import-euroc: convert an ASL/EuRoC sequence to our layout.
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <vector>
 
 #include "cli.hpp"
+#include "hazmap/io/euroc.hpp"
 
 namespace hazmap::cli {
 
-int cmd_import_euroc(int /*argc*/, char** argv) {
-  std::fprintf(stderr, "hazmap: '%s' is not implemented yet\n", argv[1]);
-  return kExitUsage;
+namespace {
+const char* kImportUsage =
+    R"(usage: hazmap import-euroc SRC DST [--poses CSV] [--pose-frame body|left_camera]
+                           [--identity-poses] [--max-pose-gap SECONDS]
+
+Converts an ASL/EuRoC folder (SRC/mav0/cam0|cam1/data/*.png with Kalibr-style
+sensor.yaml) into hazmap's sequence layout in DST: left/, right/ (images copied as they
+are: raw, distorted), calibration.yaml (from the sensor.yaml intrinsics, distortion and
+T_BS; the body frame is EuRoC's IMU frame) and poses.txt. Frames without a pose are
+left out. ('hazmap stereo' also reads EuRoC folders directly.)
+  --poses CSV        "t_ns, x, y, z, qw, qx, qy, qz[, ...]" poses; default
+                     SRC/mav0/state_groundtruth_estimate0/data.csv
+  --pose-frame F     what the CSV poses are: body (default) or left_camera (cam0)
+  --identity-poses   no pose file: put every frame at the identity
+  --max-pose-gap S   interpolate between pose samples at most S seconds apart (0.1)
+)";
+}  // namespace
+
+int cmd_import_euroc(int argc, char** argv) {
+  if (wants_help(argc, argv)) {
+    std::fputs(kImportUsage, stdout);
+    return kExitOk;
+  }
+  // SRC and DST are positional; everything else goes to the shared flag parser.
+  const std::vector<std::string> value_flags{"poses", "pose-frame", "max-pose-gap"};
+  std::vector<char*> flags{argv[0], argv[1]};
+  std::vector<std::string> positional;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--", 0) == 0) {
+      flags.push_back(argv[i]);
+      const bool takes_value = a.find('=') == std::string::npos &&
+                               std::find(value_flags.begin(), value_flags.end(), a.substr(2)) !=
+                                   value_flags.end();
+      if (takes_value && i + 1 < argc) flags.push_back(argv[++i]);
+    } else {
+      positional.push_back(a);
+    }
+  }
+  if (positional.size() != 2) throw UsageError("import-euroc needs SRC and DST");
+  const Args args = parse_args(static_cast<int>(flags.size()), flags.data(), value_flags,
+                               {"identity-poses"});
+  hazmap::EurocOptions options;
+  options.poses_csv = args.get("poses");
+  const std::string frame = args.get("pose-frame", "body");
+  if (frame == "body") options.poses_frame = hazmap::EurocPoseFrame::body;
+  else if (frame == "left_camera") options.poses_frame = hazmap::EurocPoseFrame::left_camera;
+  else throw UsageError("--pose-frame " + frame + ": expected body or left_camera");
+  options.identity_poses = args.on("identity-poses");
+  if (args.has("max-pose-gap")) {
+    const double gap_s = args.number("max-pose-gap");
+    if (!(gap_s >= 0)) throw UsageError("--max-pose-gap must be >= 0");
+    options.max_pose_gap_ns = static_cast<std::int64_t>(gap_s * 1e9);
+  }
+  setup_logging("", false);
+  const size_t frames = hazmap::import_euroc(positional[0], positional[1], options);
+  std::printf("imported %zu frames into %s\n", frames, positional[1].c_str());
+  return kExitOk;
 }
 
 }  // namespace hazmap::cli

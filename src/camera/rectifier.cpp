@@ -15,6 +15,10 @@ cv::Mat to_cv(const Eigen::Matrix3d& m) {
   return out;
 }
 
+cv::Mat distortion_row(const std::vector<double>& d) {
+  return d.empty() ? cv::Mat() : cv::Mat(d, true).reshape(1, 1);
+}
+
 }  // namespace
 
 Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
@@ -25,31 +29,33 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
     geometry_.cx_px = calib.left.K(0, 2);
     geometry_.cy_px = calib.left.K(1, 2);
     geometry_.baseline_m = -calib.T.x();
-    valid_roi_ = cv::Rect(0, 0, size_.width, size_.height);
+    valid_roi_ = valid_roi_right_ = cv::Rect(0, 0, size_.width, size_.height);
     return;
   }
-  const cv::Mat K1 = to_cv(calib.left.K), K2 = to_cv(calib.right.K);
-  const cv::Mat D1(calib.left.D, true), D2(calib.right.D, true);
+  K1_ = to_cv(calib.left.K);
+  K2_ = to_cv(calib.right.K);
+  D1_ = distortion_row(calib.left.D);
+  D2_ = distortion_row(calib.right.D);
   const cv::Mat R = to_cv(calib.R);
   const cv::Mat T = (cv::Mat_<double>(3, 1) << calib.T.x(), calib.T.y(), calib.T.z());
-  cv::Mat R1, R2, P1, P2, Q;
-  cv::Rect roi_right;
-  cv::stereoRectify(K1, D1.reshape(1, 1), K2, D2.reshape(1, 1), size_, R, T, R1, R2, P1, P2, Q,
-                    cv::CALIB_ZERO_DISPARITY, alpha, size_, &valid_roi_, &roi_right);
-  cv::initUndistortRectifyMap(K1, D1.reshape(1, 1), R1, P1, size_, CV_16SC2, map_left_x_,
-                              map_left_y_);
-  cv::initUndistortRectifyMap(K2, D2.reshape(1, 1), R2, P2, size_, CV_16SC2, map_right_x_,
+  cv::Mat Q;
+  cv::stereoRectify(K1_, D1_, K2_, D2_, size_, R, T, R1_cv_, R2_cv_, P1_, P2_, Q,
+                    cv::CALIB_ZERO_DISPARITY, alpha, size_, &valid_roi_, &valid_roi_right_);
+  cv::initUndistortRectifyMap(K1_, D1_, R1_cv_, P1_, size_, CV_16SC2, map_left_x_, map_left_y_);
+  cv::initUndistortRectifyMap(K2_, D2_, R2_cv_, P2_, size_, CV_16SC2, map_right_x_,
                               map_right_y_);
-  geometry_.focal_px = P2.at<double>(0, 0);
-  geometry_.baseline_m = -P2.at<double>(0, 3) / geometry_.focal_px;
-  geometry_.cx_px = P1.at<double>(0, 2);
-  geometry_.cy_px = P1.at<double>(1, 2);
+  geometry_.focal_px = P2_.at<double>(0, 0);
+  geometry_.baseline_m = -P2_.at<double>(0, 3) / geometry_.focal_px;
+  geometry_.cx_px = P1_.at<double>(0, 2);
+  geometry_.cy_px = P1_.at<double>(1, 2);
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R1_(r, c) = R1.at<double>(r, c);
+    for (int c = 0; c < 3; ++c) R1_(r, c) = R1_cv_.at<double>(r, c);
   if (!(geometry_.baseline_m > 0))
     throw Error("calibration: the right camera is not to the right of the left one (T.x must be "
                 "negative)");
-  if (valid_roi_.area() == 0) valid_roi_ = cv::Rect(0, 0, size_.width, size_.height);
+  const cv::Rect whole(0, 0, size_.width, size_.height);
+  if (valid_roi_.area() == 0) valid_roi_ = whole;
+  if (valid_roi_right_.area() == 0) valid_roi_right_ = whole;
 }
 
 void Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_left,
@@ -66,6 +72,20 @@ void Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_
   }
   cv::remap(left, out_left, map_left_x_, map_left_y_, cv::INTER_LINEAR);
   cv::remap(right, out_right, map_right_x_, map_right_y_, cv::INTER_LINEAR);
+}
+
+void Rectifier::rectify_points(StereoSide side, const std::vector<cv::Point2f>& raw_px,
+                               std::vector<cv::Point2f>& rectified_px) const {
+  if (identity_ || raw_px.empty()) {
+    rectified_px = raw_px;
+    return;
+  }
+  const bool left = side == StereoSide::left;
+  // The iterative undistortion needs more than OpenCV's default 5 iterations to be exact
+  // (to 1e-4 px) near the corners of strongly distorted lenses such as EuRoC's.
+  cv::undistortPoints(raw_px, rectified_px, left ? K1_ : K2_, left ? D1_ : D2_,
+                      left ? R1_cv_ : R2_cv_, left ? P1_ : P2_,
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-9));
 }
 
 }  // namespace hazmap

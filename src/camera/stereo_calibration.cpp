@@ -1,12 +1,15 @@
 #include "hazmap/camera/stereo_calibration.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include <Eigen/Geometry>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/opencv_calibration.hpp"
 #include "../io/yaml_access.hpp"
 
 namespace hazmap {
@@ -37,13 +40,64 @@ CameraIntrinsics parse_camera(YamlMap m) {
   return cam;
 }
 
+/// OpenCV's FileStorage writes "%YAML:1.0" (not valid YAML 1.2 for yaml-cpp) or XML.
+bool is_opencv_file_storage(const std::string& text) {
+  const auto start = text.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos) return false;
+  return text.compare(start, 6, "%YAML:") == 0 || text.compare(start, 5, "<?xml") == 0;
+}
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string list(const double* v, size_t n) {
+  std::string out = "[";
+  for (size_t i = 0; i < n; ++i) out += (i ? ", " : "") + number(v[i]);
+  return out + "]";
+}
+
+std::string camera_line(const char* name, const CameraIntrinsics& cam) {
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> K = cam.K;
+  return std::string(name) + ": {K: " + list(K.data(), 9) + ", D: " + list(cam.D.data(), cam.D.size()) +
+         "}\n";
+}
+
 }  // namespace
+
+std::string format_stereo_calibration(const StereoCalibration& c, const std::string& comment) {
+  std::string out;
+  std::istringstream lines(comment);
+  for (std::string line; std::getline(lines, line);) out += "# " + line + "\n";
+  out += "image_width: " + std::to_string(c.image_width) + "\n";
+  out += "image_height: " + std::to_string(c.image_height) + "\n";
+  if (c.rectified) out += "rectified: true\n";
+  out += camera_line("left", c.left);
+  out += camera_line("right", c.right);
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> R = c.R;
+  out += "R: " + list(R.data(), 9) + "   # x_right = R x_left + T\n";
+  out += "T: " + list(c.T.data(), 3) + "   # metres\n";
+  const Eigen::Quaterniond q(c.T_B_C.linear());
+  const double quat[4] = {q.x(), q.y(), q.z(), q.w()};
+  out += "T_body_left: {translation: " + list(c.T_B_C.translation().data(), 3) +
+         ", quaternion: " + list(quat, 4) + "}\n";
+  return out;
+}
+
+void save_stereo_calibration(const std::filesystem::path& path, const StereoCalibration& c,
+                             const std::string& comment) {
+  validate(c, path.string());
+  write_file_atomically(path, format_stereo_calibration(c, comment));
+}
 
 StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw Error(path.string() + ": cannot open calibration file");
   std::ostringstream text;
   text << in.rdbuf();
+  if (is_opencv_file_storage(text.str())) return load_opencv_stereo_calibration(path);
   YAML::Node root;
   try {
     root = YAML::Load(text.str());

@@ -45,7 +45,13 @@ std::vector<int> kernel_half_widths(int kernel) {
 
 void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& roughness,
                               DenseGrid& fill) {
-  const std::vector<int> widths = kernel_half_widths(kernel);
+  if (kernel != kernel_) {  // allocation only when the kernel changes, not per frame
+    widths_ = kernel_half_widths(kernel);
+    kernel_ = kernel;
+    width_used_.assign(static_cast<size_t>(kernel), 0);
+    for (int w : widths_) width_used_[static_cast<size_t>(w)] = 1;
+  }
+  const std::vector<int>& widths = widths_;
   const int half = (kernel - 1) / 2;
   const int rows = height.rows, cols = height.cols;
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -58,13 +64,11 @@ void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& ro
   row_max_.resize(plane * (max_w + 1));
   row_min_.resize(plane * (max_w + 1));
   row_count_.resize(plane * (max_w + 1));
-  std::vector<bool> needed(max_w + 1, false);
-  for (int w : widths) needed[w] = true;
   int kernel_cells = 0;
   for (int w : widths) kernel_cells += 2 * w + 1;
 
   for (int w = 0; w <= max_w; ++w) {
-    if (!needed[w]) continue;
+    if (!width_used_[static_cast<size_t>(w)]) continue;
     for (int r = 0; r < rows; ++r) {
       const float* in = &height.values[static_cast<size_t>(r) * cols];
       const size_t off = plane * w + static_cast<size_t>(r) * cols;

@@ -47,8 +47,21 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("sgbm_p2", s.sgbm_p2);
   m.get("sgbm_mode", s.sgbm_mode);
   one_of(m, "sgbm_mode", s.sgbm_mode, {"sgbm", "hh", "sgbm_3way", "hh4"});
+  m.get("pre_filter_type", s.pre_filter_type);
+  one_of(m, "pre_filter_type", s.pre_filter_type, {"normalized_response", "xsobel"});
+  m.get("pre_filter_size", s.pre_filter_size);
+  m.get("input_bits", s.input_bits);
   m.get("rectify_alpha", s.rectify_alpha);
   m.get("stride", s.stride);
+  if (m.has("roi")) {
+    std::vector<double> roi;
+    m.get("roi", roi, 4);
+    for (size_t i = 0; i < 4; ++i) {
+      if (roi[i] != std::floor(roi[i]) || std::abs(roi[i]) > 1e6)
+        m.fail("roi", "expected 4 integers [x, y, width, height]");
+      s.roi_px[i] = static_cast<int>(roi[i]);
+    }
+  }
   m.get("z_min", s.z_min_m);
   m.get("z_max", s.z_max_m);
   m.finish();
@@ -194,7 +207,13 @@ void validate(const Config& c) {
     invalid("stereo.sgbm_p2", "must be greater than sgbm_p1");
   if (s.rectify_alpha != -1 && (s.rectify_alpha < 0 || s.rectify_alpha > 1))
     invalid("stereo.rectify_alpha", "must be in [0, 1] (or -1 for OpenCV's default)");
+  if (s.pre_filter_size < 5 || s.pre_filter_size % 2 == 0 || s.pre_filter_size > 255)
+    invalid("stereo.pre_filter_size", "must be odd and in [5, 255]");
+  if (s.input_bits != 0 && (s.input_bits < 8 || s.input_bits > 16))
+    invalid("stereo.input_bits", "must be 0 (detect) or in [8, 16]");
   if (s.stride < 1) invalid("stereo.stride", "must be >= 1");
+  if (s.roi_px[0] < 0 || s.roi_px[1] < 0 || s.roi_px[2] < 0 || s.roi_px[3] < 0)
+    invalid("stereo.roi", "x, y, width and height must be >= 0");
   if (!(s.z_min_m > 0)) invalid("stereo.z_min", "must be > 0");
   if (!(s.z_max_m > s.z_min_m)) invalid("stereo.z_max", "must be greater than stereo.z_min");
 
@@ -217,6 +236,20 @@ void validate(const Config& c) {
         invalid(k + ".resolution", "must be an integer multiple of the previous layer's (" +
                                        std::to_string(prev) + ")");
     }
+  }
+  if (c.map.insertion == "finest_then_pool") {
+    // SPEC 5: pooling is defined between consecutive layers of one rule family.
+    auto family = [](RuleKind k) {
+      return k == RuleKind::ccm ? 0 : k == RuleKind::bananas ? 1 : 2;  // 2: kalman / omg
+    };
+    for (size_t i = 1; i < c.map.layers.size(); ++i)
+      if (family(c.map.layers[i].rule) != family(c.map.layers[i - 1].rule))
+        invalid("map.layers." + std::to_string(i) + ".rule",
+                std::string("finest_then_pool pools only between layers of one rule family (ccm "
+                            "with ccm, kalman/omg with kalman/omg), but layer ") +
+                    std::to_string(i - 1) + " is " + rule_name(c.map.layers[i - 1].rule) +
+                    " and layer " + std::to_string(i) + " is " + rule_name(c.map.layers[i].rule) +
+                    "; use map.insertion: all_layers");
   }
   if (c.rules.kalman.time_inflation_m2 < 0) invalid("rules.kalman.time_inflation", "must be >= 0");
   if (c.rules.kalman.min_variance_m2 < 0) invalid("rules.kalman.min_variance", "must be >= 0");
@@ -254,8 +287,13 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "sgbm_p1" << YAML::Value << s.sgbm_p1
       << YAML::Key << "sgbm_p2" << YAML::Value << s.sgbm_p2
       << YAML::Key << "sgbm_mode" << YAML::Value << s.sgbm_mode
+      << YAML::Key << "pre_filter_type" << YAML::Value << s.pre_filter_type
+      << YAML::Key << "pre_filter_size" << YAML::Value << s.pre_filter_size
+      << YAML::Key << "input_bits" << YAML::Value << s.input_bits
       << YAML::Key << "rectify_alpha" << YAML::Value << s.rectify_alpha
       << YAML::Key << "stride" << YAML::Value << s.stride
+      << YAML::Key << "roi" << YAML::Value << YAML::Flow << YAML::BeginSeq << s.roi_px[0]
+      << s.roi_px[1] << s.roi_px[2] << s.roi_px[3] << YAML::EndSeq
       << YAML::Key << "z_min" << YAML::Value << s.z_min_m
       << YAML::Key << "z_max" << YAML::Value << s.z_max_m << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::BeginMap

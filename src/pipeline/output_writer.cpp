@@ -149,12 +149,12 @@ void write_frame_outputs(const std::filesystem::path& dir, const std::string& fr
     const LayerView& v = views[i];
     if (output.png) {
       write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, output.png_min_size, rx, ry));
-      write_png(dir / (prefix + "height.png"), render_height(v.height, output.png_min_size, rx, ry));
+      write_png(dir / (prefix + "height.png"), render_height(v.map.height, output.png_min_size, rx, ry));
     }
     if (output.jdem) {
-      write_jdem(dir / (prefix + "height.jdem"), to_jdem(v.height, "height", "m", frame_name));
+      write_jdem(dir / (prefix + "height.jdem"), to_jdem(v.map.height, "height", "m", frame_name));
       write_jdem(dir / (prefix + "variance.jdem"),
-                 to_jdem(v.variance, "variance", "m^2", frame_name));
+                 to_jdem(v.map.variance, "variance", "m^2", frame_name));
       write_jdem(dir / (prefix + "hazard.jdem"),
                  to_jdem(v.hazard, "hazard", "class",
                          frame_name));

@@ -34,14 +34,16 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       matcher_(config.stereo),
       builder_(config.stereo, config.sensor, rectifier_.geometry(), rectifier_.R1(),
                calibration.T_B_C, rectifier_.valid_roi()),
-      map_(config.map, config.rules),
+      map_(config.map, config.rules, config.pose_uncertainty.enabled),
+      weighting_(ccm_weighting(config.rules.ccm)),
       views_(config.map.layers.size()) {
   for (const auto& layer : config.map.layers)
     roughness_params_.push_back(roughness_params(layer, config.hazard));
   for (const auto& view : views_) hazard_ptrs_.push_back(&view.hazard);
 }
 
-FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B) {
+FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
+                              const PoseNoise& noise) {
   FrameReport report;
   auto t = Clock::now();
   to_gray8(left, grey_left_);
@@ -55,12 +57,13 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
 
   t = Clock::now();
   builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  prepare_measurements(cloud_, weighting_);
   report.points = cloud_.size();
   report.ms.points_ms = ms_since(t);
 
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
-  map_.begin_frame(robot.x(), robot.y());
+  map_.begin_frame(robot.x(), robot.y(), noise);
   report.updates = map_.insert(cloud_);
   report.ms.map_ms = ms_since(t);
 
@@ -73,10 +76,11 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
 void Pipeline::analyse_hazards() {
   for (size_t i = 0; i < map_.size(); ++i) {
     LayerView& view = views_[i];
-    map_.layer(i).export_height(view.height);
-    map_.layer(i).export_variance(view.variance);
-    roughness_.compute(view.height, roughness_params_[i].kernel, view.roughness, view.fill);
-    classify_roughness(view.height, view.roughness, view.fill, roughness_params_[i], view.hazard);
+    map_.export_layer(i, view.map);
+    roughness_.compute(view.map.height, roughness_params_[i].kernel, view.kernel_range,
+                       view.kernel_fill);
+    classify_roughness(view.map.height, view.kernel_range, view.kernel_fill, roughness_params_[i],
+                       view.hazard);
   }
   fuse_hazards(hazard_ptrs_, fused_);
 }

@@ -136,7 +136,7 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
 
     FrameReport report;
     try {
-      report = pipeline.process(left, right, frame.pose.T_W_B);
+      report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
     } catch (const Error& e) {
       throw Error(frame.left_path.string() + ": " + e.what());
     }

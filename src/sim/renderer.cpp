@@ -61,15 +61,18 @@ std::optional<RayHit> cast_ray(const Terrain& terrain, const Eigen::Vector3d& or
   double t_best = options.max_range_m;
   int best_rock = -1;
   const auto& rocks = terrain.rocks();
-  for (std::size_t i = 0; i < rocks.size(); ++i) {
-    const Eigen::Vector3d c = terrain.rock_center_W(i);
-    const double t = ray_sphere_entry(o, d, c, rocks[i].radius_m);
-    if (!(t < t_best)) continue;
-    const Eigen::Vector3d p = o + t * d;
-    if (p.z() < terrain.ground_height_m(p.x(), p.y())) continue;  // buried part
-    t_best = t;
-    best_rock = static_cast<int>(i);
-  }
+  terrain.rock_grid().traverse(o, d, t_best, [&](const int* begin, const int* end, double t_exit) {
+    for (const int* i = begin; i != end; ++i) {
+      const Eigen::Vector3d c = terrain.rock_center_W(static_cast<std::size_t>(*i));
+      const double t = ray_sphere_entry(o, d, c, rocks[static_cast<std::size_t>(*i)].radius_m);
+      if (!(t < t_best)) continue;
+      const Eigen::Vector3d p = o + t * d;
+      if (p.z() < terrain.ground_height_m(p.x(), p.y())) continue;  // buried part
+      t_best = t;
+      best_rock = *i;
+    }
+    return t_exit < t_best;  // a later cell can only hold a nearer hit if t_best lies beyond
+  });
 
   // Ground: h(t) = z(t) - ground(x(t), y(t)) falls at most at `rate` per metre of t.
   const double G = terrain.max_ground_gradient();
@@ -178,15 +181,27 @@ double Renderer::albedo(const RayHit& hit, double footprint_m) const {
 
 bool Renderer::in_rock_shadow(const RayHit& hit) const {
   const auto& rocks = terrain_.rocks();
-  for (std::size_t i = 0; i < rocks.size(); ++i) {
-    if (static_cast<int>(i) == hit.rock_index) continue;  // self-shadow is n . s < 0
-    const double t = ray_sphere_entry(hit.p_W, sun_W_, terrain_.rock_center_W(i),
-                                      rocks[i].radius_m);
-    if (!std::isfinite(t)) continue;
-    const Eigen::Vector3d p = hit.p_W + t * sun_W_;
-    if (p.z() >= terrain_.ground_height_m(p.x(), p.y())) return true;
-  }
-  return false;
+  const RockGrid& grid = terrain_.rock_grid();
+  // Above the highest rock top the sun ray cannot meet a rock: that bounds its length.
+  if (rocks.empty() || hit.p_W.z() >= grid.max_top_z_m()) return false;
+  const double t_max = (grid.max_top_z_m() - hit.p_W.z()) / sun_W_.z();
+  bool shadowed = false;
+  grid.traverse(hit.p_W, sun_W_, t_max, [&](const int* begin, const int* end, double) {
+    for (const int* i = begin; i != end; ++i) {
+      if (*i == hit.rock_index) continue;  // self-shadow is n . s < 0
+      const auto k = static_cast<std::size_t>(*i);
+      const double t = ray_sphere_entry(hit.p_W, sun_W_, terrain_.rock_center_W(k),
+                                        rocks[k].radius_m);
+      if (!std::isfinite(t)) continue;
+      const Eigen::Vector3d p = hit.p_W + t * sun_W_;
+      if (p.z() >= terrain_.ground_height_m(p.x(), p.y())) {
+        shadowed = true;
+        return false;
+      }
+    }
+    return true;
+  });
+  return shadowed;
 }
 
 double Renderer::radiance(const RayHit& hit, double footprint_m) const {

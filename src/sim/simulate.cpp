@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,12 +50,6 @@ std::string frame_name(int index) {
   return buffer;
 }
 
-std::string list(std::initializer_list<double> values) {
-  std::string s = "[";
-  for (const double v : values) s += (s.size() > 1 ? ", " : "") + num(v);
-  return s + "]";
-}
-
 // Quaternion with qw >= 0 (one of the two equivalent signs, chosen for stable output).
 Eigen::Quaterniond canonical(const Eigen::Matrix3d& R) {
   Eigen::Quaterniond q(R);
@@ -63,60 +58,100 @@ Eigen::Quaterniond canonical(const Eigen::Matrix3d& R) {
   return q;
 }
 
-std::string calibration_yaml(const StereoRig& rig, double scale) {
-  const PinholeCamera& c = rig.camera;
+std::string list(const std::vector<double>& values) {
+  std::string s = "[";
+  for (const double v : values) s += (s.size() > 1 ? ", " : "") + num(v);
+  return s + "]";
+}
+
+std::string camera_yaml(const PinholeCamera& c) {
   const std::string K = list({c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1});
+  const auto& d = c.distortion;
+  return "{K: " + K + ", D: " + list({d[0], d[1], d[2], d[3], d[4]}) + "}";
+}
+
+std::string calibration_yaml(const StereoRig& rig, double scale) {
   const Eigen::Quaterniond q = canonical(rig.T_B_CL.linear());
   const Eigen::Vector3d t = rig.T_B_CL.translation();
+  const std::string body = "T_body_left: {translation: " + list({t.x(), t.y(), t.z()}) +
+                           ", quaternion: " +
+                           list({quantize(q.x()), quantize(q.y()), quantize(q.z()),
+                                 quantize(q.w())}) +
+                           "}\n";
   std::ostringstream out;
-  out << "# Synthetic rectified stereo pair (hazmap simulate): CADRE geometry at scale "
-      << num(scale) << ".\n"
-      << "image_width: " << c.width_px << "\n"
-      << "image_height: " << c.height_px << "\n"
-      << "rectified: true                  # ideal pinhole pair: no remapping needed\n"
-      << "left:  {K: " << K << ", D: [0, 0, 0, 0, 0]}\n"
-      << "right: {K: " << K << ", D: [0, 0, 0, 0, 0]}\n"
-      << "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]   # x_right = R x_left + T\n"
-      << "T: " << list({-rig.baseline_m, 0, 0}) << "                 # metres\n"
-      << "T_body_left: {translation: " << list({t.x(), t.y(), t.z()})
-      << ", quaternion: "
-      << list({quantize(q.x()), quantize(q.y()), quantize(q.z()), quantize(q.w())}) << "}\n";
+  if (rig.rectified()) {
+    out << "# Synthetic rectified stereo pair (hazmap simulate): CADRE geometry at scale "
+        << num(scale) << ".\n"
+        << "image_width: " << rig.camera.width_px << "\n"
+        << "image_height: " << rig.camera.height_px << "\n"
+        << "rectified: true                  # ideal pinhole pair: no remapping needed\n"
+        << "left:  " << camera_yaml(rig.camera) << "\n"
+        << "right: " << camera_yaml(rig.camera_right) << "\n"
+        << "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]   # x_right = R x_left + T\n"
+        << "T: " << list({-rig.baseline_m, 0, 0}) << "                 # metres\n"
+        << body;
+    return out.str();
+  }
+  // x_right = R x_left + T: the inverse of the right camera's pose in the left frame.
+  const Pose3d T_CR_CL = rig.T_CL_CR.inverse();
+  const Eigen::Matrix3d R = T_CR_CL.linear();
+  const Eigen::Vector3d T = T_CR_CL.translation();
+  out << "# Synthetic stereo pair (hazmap simulate): CADRE geometry at scale " << num(scale)
+      << ", with the true lens\n# distortion and right-camera misalignment; hazmap rectifies it.\n"
+      << "image_width: " << rig.camera.width_px << "\n"
+      << "image_height: " << rig.camera.height_px << "\n"
+      << "rectified: false\n"
+      << "left:  " << camera_yaml(rig.camera) << "\n"
+      << "right: " << camera_yaml(rig.camera_right) << "\n"
+      << "R: "
+      << list({quantize(R(0, 0)), quantize(R(0, 1)), quantize(R(0, 2)), quantize(R(1, 0)),
+               quantize(R(1, 1)), quantize(R(1, 2)), quantize(R(2, 0)), quantize(R(2, 1)),
+               quantize(R(2, 2))})
+      << "   # x_right = R x_left + T\n"
+      << "T: " << list({quantize(T.x()), quantize(T.y()), quantize(T.z())}) << "   # metres\n"
+      << body;
   return out.str();
 }
 
-std::string poses_txt(const SimulationOptions& options, const std::vector<Pose3d>& T_W_B) {
+std::string pose_line(const std::string& name, int index, const Pose3d& T_W_B) {
+  const Eigen::Vector3d p = T_W_B.translation();
+  const Eigen::Quaterniond q = canonical(T_W_B.linear());
+  std::ostringstream out;
+  out << name << ' ' << index << ' ' << num(p.x()) << ' ' << num(p.y()) << ' ' << num(p.z())
+      << ' ' << num(quantize(q.x())) << ' ' << num(quantize(q.y())) << ' ' << num(quantize(q.z()))
+      << ' ' << num(quantize(q.w()));
+  return out.str();
+}
+
+std::string poses_txt(const SimulationOptions& options, const std::vector<Pose3d>& T_W_B,
+                      bool true_poses, bool noise_columns) {
   std::ostringstream out;
   out << "# hazmap simulate: scenario " << options.scenario << ", seed " << options.seed
-      << ", " << options.frames << " frames, " << num(options.step_m)
-      << " m per frame along W +x\n"
-      << "# T_W_B: body x forward, y left, z up; origin on the ground under the robot\n"
-      << "# name t x y z qx qy qz qw\n";
+      << ", " << options.frames << " frames, " << num(options.step_m) << " m per frame along a "
+      << options.path.kind << " path\n"
+      << "# T_W_B: body x forward, y left, z up; origin on the plane of the ground under the "
+         "wheels\n";
+  if (options.drift.fraction > 0.0) {
+    out << (true_poses ? "# TRUE poses (the images were rendered from these)\n"
+                       : "# DRIFTED poses: position off by " + num(options.drift.fraction) +
+                             " x distance travelled; true poses in poses_true.txt\n");
+  }
+  out << "# name t x y z qx qy qz qw" << (noise_columns ? " sx sy sz syaw" : "") << "\n";
   for (std::size_t k = 0; k < T_W_B.size(); ++k) {
-    const Eigen::Vector3d p = T_W_B[k].translation();
-    const Eigen::Quaterniond q(T_W_B[k].linear());
-    out << frame_name(static_cast<int>(k)) << ' ' << k << ' ' << num(p.x()) << ' '
-        << num(p.y()) << ' ' << num(p.z()) << ' ' << num(q.x()) << ' ' << num(q.y()) << ' '
-        << num(q.z()) << ' ' << num(q.w()) << '\n';
+    out << pose_line(frame_name(static_cast<int>(k)), static_cast<int>(k), T_W_B[k]);
+    if (noise_columns) {
+      // Drift added since the previous frame, as the standard deviation of SPEC 2/7.
+      const double s = k == 0 ? 0.0 : quantize(options.drift.fraction * options.step_m);
+      out << ' ' << num(s) << ' ' << num(s) << " 0 0";
+    }
+    out << '\n';
   }
   return out.str();
 }
 
-std::string simulation_yaml(const SimulationOptions& options, const Terrain& terrain) {
+std::string rocks_yaml(const Terrain& terrain) {
   std::ostringstream out;
-  out << "# How this sequence was made (hazmap simulate). Rock heights are above the\n"
-      << "# local ground; rocks at least as high as a layer's h_min are hazards.\n"
-      << "scenario: " << options.scenario << "\n"
-      << "seed: " << options.seed << "\n"
-      << "frames: " << options.frames << "\n"
-      << "scale: " << num(options.scale) << "\n"
-      << "step_m: " << num(options.step_m) << "\n";
-  if (options.scenario == "ramp") out << "ramp_deg: " << num(options.ramp_deg) << "\n";
-  out << "samples_per_axis: " << options.render.samples_per_axis << "\n"
-      << "noise_sigma_dn: " << num(options.render.noise_sigma_dn) << "\n"
-      << "sun: {shading: " << (options.render.sun_shading ? "true" : "false")
-      << ", elevation_deg: " << num(options.render.sun_elevation_deg)
-      << ", azimuth_deg: " << num(options.render.sun_azimuth_deg) << "}\n"
-      << "rocks:" << (terrain.rocks().empty() ? " []" : "") << "\n";
+  out << "rocks:" << (terrain.rocks().empty() ? " []" : "") << "\n";
   for (const Rock& rock : terrain.rocks()) {
     const double top_m =
         terrain.height_m(rock.x_m, rock.y_m) - terrain.ground_height_m(rock.x_m, rock.y_m);
@@ -125,6 +160,84 @@ std::string simulation_yaml(const SimulationOptions& options, const Terrain& ter
         << ", buried: " << num(quantize(rock.buried_m)) << ", height: " << num(quantize(top_m))
         << "}\n";
   }
+  return out.str();
+}
+
+std::string simulation_yaml(const SimulationOptions& options, const Terrain& terrain,
+                            const std::vector<Crater>& craters, const StereoRig& rig,
+                            double drift_direction_rad) {
+  const bool drift = options.drift.fraction > 0.0;
+  std::ostringstream out;
+  out << "# How this sequence was made (hazmap simulate). Rock heights are above the\n"
+      << "# local ground; rocks at least as high as a layer's h_min are hazards.\n"
+      << "scenario: " << options.scenario << "\n"
+      << "seed: " << options.seed << "\n"
+      << "frames: " << options.frames << "\n"
+      << "scale: " << num(options.scale) << "\n"
+      << "step_m: " << num(options.step_m) << "\n";
+  out << "path: {kind: " << options.path.kind;
+  if (options.path.kind == "spline") {
+    out << ", waypoint_spacing_m: " << num(options.path.waypoint_spacing_m)
+        << ", max_turn_deg: " << num(options.path.max_turn_deg);
+  }
+  out << "}\n"
+      << "wheels: {wheelbase_m: " << num(options.wheels.wheelbase_m)
+      << ", track_m: " << num(options.wheels.track_m)
+      << "}   # body height, roll, pitch: plane through the ground under the wheels (rocks "
+         "ignored)\n"
+      << "poses: poses.txt\n"
+      << "poses_true: " << (drift ? "poses_true.txt" : "poses.txt") << "\n";
+  if (drift) {
+    out << "drift: {fraction: " << num(options.drift.fraction)
+        << ", direction_deg: " << num(quantize(drift_direction_rad * 180.0 / kPi)) << "}\n";
+  }
+  if (!rig.rectified()) {
+    const auto& d = options.rig_errors.distortion;
+    const Eigen::Vector3d& a = options.rig_errors.misalignment_rpy_deg;
+    const Eigen::Vector3d& m = options.rig_errors.misalignment_m;
+    out << "rig_errors: {distortion: " << list({d[0], d[1], d[2], d[3], d[4]})
+        << ", misalignment_rpy_deg: " << list({a.x(), a.y(), a.z()})
+        << ", misalignment_m: " << list({m.x(), m.y(), m.z()}) << "}\n";
+  }
+  if (options.scenario == "ramp") out << "ramp_deg: " << num(options.ramp_deg) << "\n";
+  if (options.scenario == "sine") {
+    out << "sine: {amplitude_m: " << num(options.sine.amplitude_m)
+        << ", wavelength_m: " << num(options.sine.wavelength_m)
+        << ", direction_deg: " << num(quantize(options.sine.direction_rad * 180.0 / kPi))
+        << ", max_slope_deg: " << num(quantize(std::atan(options.sine.max_slope()) * 180.0 / kPi))
+        << "}\n";
+  }
+  if (options.scenario == "rocks" || options.scenario == "craters") {
+    const FractalNoiseOptions& n = options.ground_noise;
+    out << "ground_noise: {amplitude_m: " << num(n.amplitude_m)
+        << ", wavelength_m: " << num(n.wavelength_m) << ", octaves: " << n.octaves
+        << ", gain: " << num(n.gain) << "}\n";
+  }
+  const Heightfield& grid = terrain.detail();
+  if (!grid.heights_m.empty()) {
+    out << "terrain_grid: {origin: " << list({quantize(grid.origin_x_m), quantize(grid.origin_y_m)})
+        << ", resolution_m: " << num(grid.resolution_m) << ", nodes: [" << grid.nodes_x << ", "
+        << grid.nodes_y << "]}\n";
+  }
+  if (options.write_ground_truth) {
+    out << "ground_truth: {height: gt_height.jdem, hazard: gt_hazard.jdem}   # hazard: rock "
+           "height above the ground, 0 elsewhere (crater walls are ground: see height)\n";
+  }
+  if (options.write_depth) out << "depth: depth   # <name>.tiff, float32 Z [m] in the left camera\n";
+  out << "samples_per_axis: " << options.render.samples_per_axis << "\n"
+      << "noise_sigma_dn: " << num(options.render.noise_sigma_dn) << "\n"
+      << "sun: {shading: " << (options.render.sun_shading ? "true" : "false")
+      << ", elevation_deg: " << num(options.render.sun_elevation_deg)
+      << ", azimuth_deg: " << num(options.render.sun_azimuth_deg) << "}\n";
+  if (!craters.empty()) {
+    out << "craters:\n";
+    for (const Crater& c : craters) {
+      out << "  - {x: " << num(quantize(c.x_m)) << ", y: " << num(quantize(c.y_m))
+          << ", radius: " << num(quantize(c.radius_m)) << ", depth: " << num(quantize(c.depth_m))
+          << ", rim_height: " << num(quantize(c.rim_height_m)) << "}\n";
+    }
+  }
+  out << rocks_yaml(terrain);
   return out.str();
 }
 
@@ -158,10 +271,13 @@ GridFrame aligned_grid(double x0, double x1, double y0, double y1, double resolu
 }
 
 // Independent random streams from the one user seed: the first draws of a mt19937_64.
+// New streams are appended, so older ones keep their values.
 struct Seeds {
   std::uint64_t terrain = 0;
   std::uint64_t texture = 0;
   std::uint64_t image_noise = 0;
+  std::uint64_t path = 0;
+  std::uint64_t drift = 0;
 };
 
 Seeds derive_seeds(std::uint64_t seed) {
@@ -170,17 +286,78 @@ Seeds derive_seeds(std::uint64_t seed) {
   seeds.terrain = master();
   seeds.texture = master();
   seeds.image_noise = master();
+  seeds.path = master();
+  seeds.drift = master();
   return seeds;
+}
+
+// Rotation as it will be read back: quaternion rounded as written, then normalised.
+Eigen::Matrix3d as_written(const Eigen::Matrix3d& R) {
+  const Eigen::Quaterniond q = canonical(R);
+  const Eigen::Quaterniond q_written(quantize(q.w()), quantize(q.x()), quantize(q.y()),
+                                     quantize(q.z()));
+  return q_written.normalized().toRotationMatrix();
+}
+
+Pose3d pose_as_written(const Pose3d& T) {
+  Pose3d out = Pose3d::Identity();
+  out.linear() = as_written(T.linear());
+  const Eigen::Vector3d t = T.translation();
+  out.translation() = Eigen::Vector3d(quantize(t.x()), quantize(t.y()), quantize(t.z()));
+  return out;
+}
+
+Eigen::Matrix3d rotation_deg(const Eigen::Vector3d& rpy_deg) {
+  return rotation_from_rpy(rpy_deg.x() * kPi / 180.0, rpy_deg.y() * kPi / 180.0,
+                           rpy_deg.z() * kPi / 180.0);
+}
+
+// Horizontal bounding box of the path points.
+void path_bounds(const std::vector<PathPoint>& path, Eigen::Vector2d& lo, Eigen::Vector2d& hi) {
+  lo = hi = path.front().p_W;
+  for (const PathPoint& point : path) {
+    lo = lo.cwiseMin(point.p_W);
+    hi = hi.cwiseMax(point.p_W);
+  }
 }
 
 }  // namespace
 
-Pose3d StereoRig::T_B_CR() const {
-  return T_B_CL * Eigen::Translation3d(baseline_m, 0.0, 0.0);
+bool RigErrors::any() const {
+  return std::any_of(distortion.begin(), distortion.end(), [](double d) { return d != 0.0; }) ||
+         !misalignment_rpy_deg.isZero(0.0) || !misalignment_m.isZero(0.0);
 }
 
-StereoRig make_cadre_rig(double scale) {
+std::array<double, 5> RigErrors::typical_distortion() { return {-0.08, 0.012, 4e-4, -3e-4, 0.0}; }
+
+Eigen::Vector3d RigErrors::typical_misalignment_rpy_deg() { return {0.3, -0.2, 0.4}; }
+
+Eigen::Vector3d RigErrors::typical_misalignment_m() { return {5e-4, -3e-4, 4e-4}; }
+
+Pose3d StereoRig::T_B_CR() const { return T_B_CL * T_CL_CR; }
+
+bool StereoRig::rectified() const {
+  const PinholeCamera& l = camera;
+  const PinholeCamera& r = camera_right;
+  const bool same_intrinsics = l.width_px == r.width_px && l.height_px == r.height_px &&
+                               l.fx_px == r.fx_px && l.fy_px == r.fy_px && l.cx_px == r.cx_px &&
+                               l.cy_px == r.cy_px;
+  const Eigen::Vector3d t = T_CL_CR.translation();
+  return same_intrinsics && !l.distorted() && !r.distorted() &&
+         T_CL_CR.linear() == Eigen::Matrix3d::Identity() && t.y() == 0.0 && t.z() == 0.0 &&
+         t.x() > 0.0;
+}
+
+StereoRig make_cadre_rig(double scale, const RigErrors& errors) {
   check(scale >= 0.05 && scale <= 2.0, "simulate: scale must be in [0.05, 2]");
+  check(std::all_of(errors.distortion.begin(), errors.distortion.end(),
+                    [](double d) { return std::isfinite(d) && std::abs(d) < 10.0; }),
+        "simulate: distortion coefficients must be finite and below 10 in magnitude");
+  check(errors.misalignment_rpy_deg.allFinite() &&
+            errors.misalignment_rpy_deg.cwiseAbs().maxCoeff() <= 10.0,
+        "simulate: misalignment angles must be within +-10 deg");
+  check(errors.misalignment_m.allFinite() && errors.misalignment_m.cwiseAbs().maxCoeff() <= 0.02,
+        "simulate: misalignment offsets must be within +-0.02 m");
   StereoRig rig;
   PinholeCamera& c = rig.camera;
   c.width_px = static_cast<int>(std::lround(kCadreWidthPx * scale));
@@ -188,6 +365,8 @@ StereoRig make_cadre_rig(double scale) {
   c.fx_px = c.fy_px = quantize(kCadreFocalPx * scale);
   c.cx_px = 0.5 * (c.width_px - 1);
   c.cy_px = 0.5 * (c.height_px - 1);
+  for (std::size_t i = 0; i < 5; ++i) c.distortion[i] = quantize(errors.distortion[i]);
+  rig.camera_right = c;
   rig.baseline_m = kCadreBaselineM;
 
   // Looking along body +x: camera z -> body x, camera x -> body -y, camera y -> body -z.
@@ -201,13 +380,19 @@ StereoRig make_cadre_rig(double scale) {
   const Eigen::Matrix3d R_B_C =
       Eigen::AngleAxisd(pitch_down_rad, Eigen::Vector3d::UnitY()).toRotationMatrix() * R_B_C0;
   // Render with the quaternion as written (rounded, then normalised as a reader would).
-  const Eigen::Quaterniond q = canonical(R_B_C);
-  const Eigen::Quaterniond q_written(quantize(q.w()), quantize(q.x()), quantize(q.y()),
-                                     quantize(q.z()));
   rig.T_B_CL = Pose3d::Identity();
-  rig.T_B_CL.linear() = q_written.normalized().toRotationMatrix();
+  rig.T_B_CL.linear() = as_written(R_B_C);
   // Left camera at body y = +B/2, so the pair straddles the body centre.
   rig.T_B_CL.translation() = Eigen::Vector3d(0.0, 0.5 * kCadreBaselineM, kCadreHeightM);
+
+  rig.T_CL_CR = Pose3d::Identity();
+  rig.T_CL_CR.translation() =
+      Eigen::Vector3d(kCadreBaselineM, 0.0, 0.0) +
+      Eigen::Vector3d(quantize(errors.misalignment_m.x()), quantize(errors.misalignment_m.y()),
+                      quantize(errors.misalignment_m.z()));
+  if (!errors.misalignment_rpy_deg.isZero(0.0)) {
+    rig.T_CL_CR.linear() = rotation_deg(errors.misalignment_rpy_deg);
+  }
   return rig;
 }
 
@@ -224,77 +409,155 @@ void validate(const SimulationOptions& options) {
   check(options.terrain_size_m > 0.0, "simulate: terrain_size_m must be positive");
   check(options.png_compression >= 0 && options.png_compression <= 9,
         "simulate: png_compression must be in [0, 9]");
+  check(options.wheels.wheelbase_m > 0.0 && options.wheels.wheelbase_m <= 10.0 &&
+            options.wheels.track_m > 0.0 && options.wheels.track_m <= 10.0,
+        "simulate: wheelbase_m and track_m must be in (0, 10]");
+  check(options.rock_path_clearance_m >= 0.0 && std::isfinite(options.rock_path_clearance_m),
+        "simulate: rock_path_clearance_m must be >= 0");
+  validate(options.path);
+  validate(options.drift);
+}
+
+std::vector<PathPoint> simulation_path_points(const SimulationOptions& options) {
+  validate(options);
+  return plan_path(options.path, options.frames, options.step_m, derive_seeds(options.seed).path);
 }
 
 Terrain make_simulation_terrain(const SimulationOptions& options) {
-  validate(options);
-  const double travel_m = (options.frames - 1) * options.step_m;
+  const std::vector<PathPoint> path = simulation_path_points(options);
+  Eigen::Vector2d lo, hi;
+  path_bounds(path, lo, hi);
   const double behind_m = std::max(2.5, options.ground_truth_margin_m + 0.5);
-  const double x_min = -behind_m;
-  const double x_max = std::max(x_min + options.terrain_size_m, travel_m + 5.5);
-  const double half_y = std::max(0.5 * options.terrain_size_m, options.ground_truth_margin_m + 0.5);
+  double x_min = -behind_m;
+  double x_max = std::max(x_min + options.terrain_size_m, hi.x() + 5.5);
+  double half_y = std::max(0.5 * options.terrain_size_m, options.ground_truth_margin_m + 0.5);
+  double y_min = -half_y;
+  double y_max = half_y;
+  if (options.path.kind != "straight") {
+    // The camera looks ahead along any heading: keep 5.5 m of detail around the path.
+    const double ahead_m = std::max(5.5, options.ground_truth_margin_m + 0.5);
+    x_min = std::min(x_min, lo.x() - ahead_m);
+    x_max = std::max(x_max, hi.x() + ahead_m);
+    y_min = std::min(y_min, lo.y() - ahead_m);
+    y_max = std::max(y_max, hi.y() + ahead_m);
+  }
 
   TerrainOptions terrain;
   terrain.scenario = options.scenario;
   terrain.seed = derive_seeds(options.seed).terrain;
-  terrain.center_W = Eigen::Vector2d(0.5 * (x_min + x_max), 0.0);
+  terrain.center_W = Eigen::Vector2d(0.5 * (x_min + x_max), 0.5 * (y_min + y_max));
   terrain.size_x_m = x_max - x_min;
-  terrain.size_y_m = 2.0 * half_y;
+  terrain.size_y_m = y_max - y_min;
   terrain.resolution_m = options.terrain_resolution_m;
   terrain.ramp_deg = options.ramp_deg;
+  terrain.sine = options.sine;
   terrain.noise = options.ground_noise;
   terrain.rock_field = options.rock_field;
+  terrain.scatter_rocks = options.scatter_rocks;
+  terrain.crater_field = options.crater_field;
   terrain.extra_rocks = options.extra_rocks;
+  terrain.extra_craters = options.extra_craters;
+  if (options.rock_path_clearance_m > 0.0) {
+    for (const PathPoint& point : path) terrain.keep_clear_W.push_back(point.p_W);
+    terrain.keep_clear_m = options.rock_path_clearance_m;
+  }
   return make_terrain(terrain);
 }
 
 std::vector<Pose3d> simulation_path(const SimulationOptions& options, const Terrain& terrain) {
-  std::vector<Pose3d> path;
-  for (int k = 0; k < options.frames; ++k) {
-    Pose3d T_W_B = Pose3d::Identity();
-    const double x_m = quantize(k * options.step_m);
-    T_W_B.translation() = Eigen::Vector3d(x_m, 0.0, quantize(terrain.ground_height_m(x_m, 0.0)));
-    path.push_back(T_W_B);
+  std::vector<Pose3d> poses;
+  for (PathPoint point : simulation_path_points(options)) {
+    point.p_W = Eigen::Vector2d(quantize(point.p_W.x()), quantize(point.p_W.y()));
+    poses.push_back(pose_as_written(pose_on_ground(terrain, point, options.wheels)));
   }
-  return path;
+  return poses;
 }
 
-void simulate_sequence(const SimulationOptions& options, const std::filesystem::path& out_dir) {
+std::vector<Pose3d> reported_path(const SimulationOptions& options,
+                                  const std::vector<Pose3d>& true_path) {
+  if (options.drift.fraction <= 0.0) return true_path;
+  const double direction_rad = drift_direction_rad(options.drift, derive_seeds(options.seed).drift);
+  std::vector<Pose3d> poses;
+  for (std::size_t k = 0; k < true_path.size(); ++k) {
+    poses.push_back(pose_as_written(drifted_pose(true_path[k], static_cast<double>(k) * options.step_m,
+                                                 options.drift.fraction, direction_rad)));
+  }
+  return poses;
+}
+
+SimulationSummary simulate_sequence(const SimulationOptions& options,
+                                    const std::filesystem::path& out_dir) {
   validate(options);
   const Seeds seeds = derive_seeds(options.seed);
   const Terrain terrain = make_simulation_terrain(options);
-  const StereoRig rig = make_cadre_rig(options.scale);
+  const StereoRig rig = make_cadre_rig(options.scale, options.rig_errors);
   const std::vector<Pose3d> path = simulation_path(options, terrain);
+  const std::vector<Pose3d> reported = reported_path(options, path);
+  const bool drift = options.drift.fraction > 0.0;
   const Renderer renderer(terrain, options.render, seeds.texture);
+  // The craters as make_terrain drew them (same seed), for simulation.yaml.
+  TerrainOptions crater_source;
+  crater_source.scenario = options.scenario;
+  crater_source.seed = seeds.terrain;
+  crater_source.crater_field = options.crater_field;
+  crater_source.extra_craters = options.extra_craters;
+  const std::vector<Crater> craters = terrain_craters(crater_source);
 
-  spdlog::debug("simulate: scenario {}, seed {}, {} frames of {}x{} px, {} rocks -> {}",
-               options.scenario, options.seed, options.frames, rig.camera.width_px,
-               rig.camera.height_px, terrain.rocks().size(), out_dir.string());
+  spdlog::debug("simulate: scenario {}, seed {}, {} frames of {}x{} px, {} rocks, {} craters -> {}",
+                options.scenario, options.seed, options.frames, rig.camera.width_px,
+                rig.camera.height_px, terrain.rocks().size(), craters.size(), out_dir.string());
 
   write_file_atomically(out_dir / "calibration.yaml", calibration_yaml(rig, options.scale));
-  write_file_atomically(out_dir / "poses.txt", poses_txt(options, path));
-  write_file_atomically(out_dir / "simulation.yaml", simulation_yaml(options, terrain));
+  write_file_atomically(out_dir / "poses.txt", poses_txt(options, reported, false, drift));
+  if (drift) write_file_atomically(out_dir / "poses_true.txt", poses_txt(options, path, true, false));
+  write_file_atomically(
+      out_dir / "simulation.yaml",
+      simulation_yaml(options, terrain, craters, rig,
+                      drift ? drift_direction_rad(options.drift, seeds.drift) : 0.0));
 
+  SimulationSummary summary;
+  summary.frames = options.frames;
+  summary.width_px = rig.camera.width_px;
+  summary.height_px = rig.camera.height_px;
+  summary.rocks = terrain.rocks().size();
+  summary.craters = craters.size();
   for (int k = 0; k < options.frames; ++k) {
     const std::string name = frame_name(k);
     const Pose3d T_W_CL = path[k] * rig.T_B_CL;
     const Pose3d T_W_CR = path[k] * rig.T_B_CR();
     const std::uint64_t frame_key =
         hash_combine(seeds.image_noise, static_cast<std::uint64_t>(k));
+    const auto start = std::chrono::steady_clock::now();
     const cv::Mat left = renderer.render(rig.camera, T_W_CL, hash_combine(frame_key, 0));
-    const cv::Mat right = renderer.render(rig.camera, T_W_CR, hash_combine(frame_key, 1));
+    const cv::Mat right = renderer.render(rig.camera_right, T_W_CR, hash_combine(frame_key, 1));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.render_seconds += seconds;
     write_file_atomically(out_dir / "left" / (name + ".png"),
                           encode_png(left, options.png_compression));
     write_file_atomically(out_dir / "right" / (name + ".png"),
                           encode_png(right, options.png_compression));
-    spdlog::debug("simulate: frame {} written", name);
+    if (options.write_depth) {
+      std::vector<unsigned char> bytes;
+      check(cv::imencode(".tiff", renderer.render_depth(rig.camera, T_W_CL), bytes),
+            "simulate: TIFF encoding of the depth image failed");
+      write_file_atomically(out_dir / "depth" / (name + ".tiff"), bytes);
+    }
+    spdlog::debug("simulate: frame {} rendered in {:.2f} s", name, seconds);
   }
 
   if (options.write_ground_truth) {
-    const double travel_m = (options.frames - 1) * options.step_m;
+    std::vector<PathPoint> true_points;
+    for (const Pose3d& T_W_B : path) {
+      PathPoint point;
+      point.p_W = T_W_B.translation().head<2>();
+      true_points.push_back(point);
+    }
+    Eigen::Vector2d lo, hi;
+    path_bounds(true_points, lo, hi);
     const double m = options.ground_truth_margin_m;
-    const GridFrame g =
-        aligned_grid(-m, travel_m + m, -m, m, options.ground_truth_resolution_m);
+    const GridFrame g = aligned_grid(lo.x() - m, hi.x() + m, lo.y() - m, hi.y() + m,
+                                     options.ground_truth_resolution_m);
     const std::vector<std::pair<std::string, std::string>> metadata = {
         {"source", "hazmap simulate"},
         {"scenario", options.scenario},
@@ -308,6 +571,7 @@ void simulate_sequence(const SimulationOptions& options, const std::filesystem::
     hazard.metadata = metadata;
     write_jdem(out_dir / "gt_hazard.jdem", hazard);
   }
+  return summary;
 }
 
 }  // namespace hazmap::sim

@@ -143,10 +143,35 @@ double value_noise_3d(double x, double y, double z, std::uint64_t key) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Analytic ground features
+
+double SineWave::height_m(double x_m, double y_m) const {
+  if (amplitude_m == 0.0) return 0.0;
+  const double s_m =
+      direction_rad == 0.0 ? x_m : x_m * std::cos(direction_rad) + y_m * std::sin(direction_rad);
+  return amplitude_m * std::sin(2.0 * kPi * s_m / wavelength_m);
+}
+
+double SineWave::max_slope() const { return 2.0 * kPi * std::abs(amplitude_m) / wavelength_m; }
+
+double crater_relief_m(const Crater& crater, double x_m, double y_m) {
+  const double R = crater.radius_m;
+  const double r2 = (x_m - crater.x_m) * (x_m - crater.x_m) + (y_m - crater.y_m) * (y_m - crater.y_m);
+  if (r2 <= R * R) return -crater.depth_m + (crater.rim_height_m + crater.depth_m) * r2 / (R * R);
+  if (r2 >= 9.0 * R * R) return 0.0;
+  const double q = R / std::sqrt(r2);
+  return crater.rim_height_m * (q * q * q - 1.0 / 27.0) / (1.0 - 1.0 / 27.0);
+}
+
+// ---------------------------------------------------------------------------------------
 // Terrain
 
-Terrain::Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock> rocks)
-    : plane_(plane), detail_(std::move(detail)), rocks_(std::move(rocks)) {
+Terrain::Terrain(const GroundPlane& plane, const SineWave& wave, Heightfield detail,
+                 std::vector<Rock> rocks)
+    : plane_(plane), wave_(wave), detail_(std::move(detail)), rocks_(std::move(rocks)) {
+  check(wave_.wavelength_m > 0.0 && std::isfinite(wave_.wavelength_m) &&
+            std::isfinite(wave_.amplitude_m),
+        "terrain: the sine wave needs a positive wavelength and a finite amplitude");
   const bool empty = detail_.nodes_x == 0 && detail_.nodes_y == 0 && detail_.heights_m.empty();
   if (!empty) {
     check(detail_.nodes_x >= 2 && detail_.nodes_y >= 2,
@@ -181,11 +206,12 @@ Terrain::Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock>
     max_dy /= detail_.resolution_m;
   }
   // Small relative margin: the bound must hold for the rounded arithmetic too.
-  max_ground_gradient_ =
-      (std::hypot(plane_.slope_x, plane_.slope_y) + std::hypot(max_dx, max_dy)) * (1.0 + 1e-9) +
-      1e-12;
+  max_ground_gradient_ = (std::hypot(plane_.slope_x, plane_.slope_y) + wave_.max_slope() +
+                          std::hypot(max_dx, max_dy)) *
+                             (1.0 + 1e-9) +
+                         1e-12;
   max_ground_height_m_ = (plane_.slope_x == 0.0 && plane_.slope_y == 0.0)
-                             ? plane_.offset_m + max_detail
+                             ? plane_.offset_m + std::abs(wave_.amplitude_m) + max_detail
                              : std::numeric_limits<double>::infinity();
 
   rock_centers_W_.reserve(rocks_.size());
@@ -198,6 +224,9 @@ Terrain::Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock>
     rock_centers_W_.emplace_back(rock.x_m, rock.y_m,
                                  ground_height_m(rock.x_m, rock.y_m) - rock.buried_m);
   }
+  std::vector<double> radii_m;
+  for (const Rock& rock : rocks_) radii_m.push_back(rock.radius_m);
+  rock_grid_ = RockGrid(rock_centers_W_, radii_m);
 }
 
 double Terrain::detail_height_m(double x_m, double y_m) const {
@@ -220,7 +249,7 @@ double Terrain::detail_height_m(double x_m, double y_m) const {
 
 double Terrain::ground_height_m(double x_m, double y_m) const {
   return plane_.offset_m + plane_.slope_x * x_m + plane_.slope_y * y_m +
-         detail_height_m(x_m, y_m);
+         wave_.height_m(x_m, y_m) + detail_height_m(x_m, y_m);
 }
 
 double Terrain::height_m(double x_m, double y_m) const {
@@ -234,6 +263,14 @@ double Terrain::height_m(double x_m, double y_m) const {
 Eigen::Vector3d Terrain::ground_normal_W(double x_m, double y_m) const {
   double gx = plane_.slope_x;
   double gy = plane_.slope_y;
+  if (wave_.amplitude_m != 0.0) {
+    const double c = std::cos(wave_.direction_rad);
+    const double sn = std::sin(wave_.direction_rad);
+    const double k = 2.0 * kPi / wave_.wavelength_m;
+    const double dz_ds = wave_.amplitude_m * k * std::cos(k * (x_m * c + y_m * sn));
+    gx += dz_ds * c;
+    gy += dz_ds * sn;
+  }
   if (!detail_.heights_m.empty()) {
     const double e = detail_.resolution_m;
     gx += (detail_height_m(x_m + e, y_m) - detail_height_m(x_m - e, y_m)) / (2.0 * e);
@@ -264,15 +301,77 @@ JdemGrid Terrain::ground_truth_hazard(double resolution_m, const Eigen::Vector2d
 // ---------------------------------------------------------------------------------------
 // Generators and scenarios
 
+SizeDistribution parse_size_distribution(const std::string& name, const std::string& what) {
+  if (name == "uniform") return SizeDistribution::uniform;
+  if (name == "power_law" || name == "power") return SizeDistribution::power_law;
+  throw Error(what + ": unknown size distribution '" + name + "' (uniform | power_law)");
+}
+
+const char* size_distribution_name(SizeDistribution distribution) {
+  return distribution == SizeDistribution::uniform ? "uniform" : "power_law";
+}
+
+double draw_radius_m(SizeDistribution distribution, double exponent, double min_m,
+                     double max_m, double u) {
+  if (distribution == SizeDistribution::uniform || max_m <= min_m) {
+    return min_m + (max_m - min_m) * u;
+  }
+  // Truncated Pareto: P(R > r) = ((min/r)^q - (min/max)^q) / (1 - (min/max)^q).
+  const double tail = std::pow(min_m / max_m, exponent);
+  return min_m * std::pow(1.0 - u * (1.0 - tail), -1.0 / exponent);
+}
+
 const std::vector<std::string>& terrain_scenarios() {
-  static const std::vector<std::string> names = {"flat", "ramp", "rocks"};
+  static const std::vector<std::string> names = {"flat", "ramp", "sine", "rocks", "craters"};
   return names;
 }
+
+namespace {
+
+void validate_field_box(double min_x, double max_x, double max_abs_y, const std::string& what) {
+  check(std::isfinite(min_x) && std::isfinite(max_x) && max_x >= min_x,
+        "terrain: " + what + " needs min_x_m <= max_x_m");
+  check(std::isfinite(max_abs_y) && max_abs_y >= 0.0, "terrain: " + what + ".max_abs_y_m must be >= 0");
+}
+
+void validate_counts(int min_count, int max_count, double density, const std::string& what) {
+  check(min_count >= 0 && max_count >= min_count,
+        "terrain: " + what + " needs 0 <= min_count <= max_count");
+  check(std::isfinite(density) && density >= 0.0, "terrain: " + what + ".density_per_m2 must be >= 0");
+}
+
+void validate_sizes(double min_m, double max_m, SizeDistribution distribution, double exponent,
+                    const std::string& what) {
+  check(min_m > 0.0 && std::isfinite(max_m) && max_m >= min_m,
+        "terrain: " + what + " needs 0 < min_radius_m <= max_radius_m");
+  check(distribution == SizeDistribution::uniform || (exponent > 0.0 && std::isfinite(exponent)),
+        "terrain: " + what + ".power_law_exponent must be positive");
+}
+
+// Object count: from the density over the box, or a draw in [min, max]. Always consumes
+// one draw so that switching modes does not shift the rest of the stream.
+int draw_count(std::mt19937_64& rng, int min_count, int max_count, double density_per_m2,
+               double box_area_m2, const std::string& what) {
+  const int drawn = uniform_int(rng, min_count, max_count);
+  if (density_per_m2 <= 0.0) return drawn;
+  const double count = std::round(density_per_m2 * box_area_m2);
+  check(count <= 100000.0, "terrain: " + what + " density gives more than 100000 objects");
+  return static_cast<int>(count);
+}
+
+// Squared distance from p to the nearest of `points` (+inf if none).
+double nearest_squared_m2(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& q : points) best = std::min(best, (q - p).squaredNorm());
+  return best;
+}
+
+}  // namespace
 
 void validate(const TerrainOptions& options) {
   const auto& names = terrain_scenarios();
   check(std::find(names.begin(), names.end(), options.scenario) != names.end(),
-        "terrain: unknown scenario '" + options.scenario + "' (flat | ramp | rocks)");
+        "terrain: unknown scenario '" + options.scenario + "' (flat | ramp | sine | rocks | craters)");
   check(options.center_W.allFinite(), "terrain: center_W must be finite");
   check(options.size_x_m > 0.0 && options.size_y_m > 0.0,
         "terrain: size_x_m and size_y_m must be positive");
@@ -281,21 +380,38 @@ void validate(const TerrainOptions& options) {
             options.size_y_m / options.resolution_m <= 20000.0,
         "terrain: more than 20000 nodes along an axis; increase resolution_m");
   check(std::abs(options.ramp_deg) < 80.0, "terrain: |ramp_deg| must be below 80");
+  check(std::isfinite(options.sine.amplitude_m) && options.sine.amplitude_m >= 0.0,
+        "terrain: sine.amplitude_m must be >= 0");
+  check(options.sine.wavelength_m > 0.0 && std::isfinite(options.sine.wavelength_m),
+        "terrain: sine.wavelength_m must be positive");
+  check(std::isfinite(options.sine.direction_rad), "terrain: sine.direction_rad must be finite");
   const FractalNoiseOptions& n = options.noise;
   check(n.amplitude_m >= 0.0, "terrain: noise.amplitude_m must be >= 0");
   check(n.wavelength_m > 0.0, "terrain: noise.wavelength_m must be positive");
   check(n.octaves >= 0 && n.octaves <= 16, "terrain: noise.octaves must be in [0, 16]");
   check(n.gain >= 0.0 && n.gain < 1.0, "terrain: noise.gain must be in [0, 1)");
   const RockFieldOptions& r = options.rock_field;
-  check(r.min_count >= 0 && r.max_count >= r.min_count,
-        "terrain: rock_field needs 0 <= min_count <= max_count");
-  check(r.min_radius_m > 0.0 && r.max_radius_m >= r.min_radius_m,
-        "terrain: rock_field needs 0 < min_radius_m <= max_radius_m");
-  check(r.max_x_m >= r.min_x_m, "terrain: rock_field needs min_x_m <= max_x_m");
-  check(r.max_abs_y_m >= 0.0, "terrain: rock_field.max_abs_y_m must be >= 0");
+  validate_counts(r.min_count, r.max_count, r.density_per_m2, "rock_field");
+  validate_sizes(r.min_radius_m, r.max_radius_m, r.size_distribution, r.power_law_exponent,
+                 "rock_field");
+  validate_field_box(r.min_x_m, r.max_x_m, r.max_abs_y_m, "rock_field");
   check(r.max_buried_fraction >= 0.0 && r.max_buried_fraction < 1.0,
         "terrain: rock_field.max_buried_fraction must be in [0, 1)");
   check(r.min_gap_m >= 0.0, "terrain: rock_field.min_gap_m must be >= 0");
+  const CraterFieldOptions& c = options.crater_field;
+  validate_counts(c.min_count, c.max_count, c.density_per_m2, "crater_field");
+  validate_sizes(c.min_radius_m, c.max_radius_m, c.size_distribution, c.power_law_exponent,
+                 "crater_field");
+  validate_field_box(c.min_x_m, c.max_x_m, c.max_abs_y_m, "crater_field");
+  check(c.depth_ratio >= 0.0 && c.depth_ratio <= 1.0, "terrain: crater_field.depth_ratio must be in [0, 1]");
+  check(c.rim_ratio >= 0.0 && c.rim_ratio <= 1.0, "terrain: crater_field.rim_ratio must be in [0, 1]");
+  check(c.clear_radius_m >= 0.0, "terrain: crater_field.clear_radius_m must be >= 0");
+  for (const Crater& crater : options.extra_craters) {
+    check(crater.radius_m > 0.0 && crater.depth_m >= 0.0 && crater.rim_height_m >= 0.0,
+          "terrain: extra craters need a positive radius and non-negative depth and rim height");
+  }
+  check(options.keep_clear_m >= 0.0 && std::isfinite(options.keep_clear_m),
+        "terrain: keep_clear_m must be >= 0");
 }
 
 Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double size_x_m,
@@ -329,15 +445,43 @@ Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double siz
   return field;
 }
 
-std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_t seed) {
+void add_crater(const Crater& crater, Heightfield& field) {
+  // Only nodes within the ejecta radius (3 R) change.
+  const double reach_m = 3.0 * crater.radius_m;
+  const int ix0 = std::max(0, static_cast<int>(std::floor((crater.x_m - reach_m - field.origin_x_m) /
+                                                          field.resolution_m)));
+  const int ix1 = std::min(field.nodes_x - 1,
+                           static_cast<int>(std::ceil((crater.x_m + reach_m - field.origin_x_m) /
+                                                      field.resolution_m)));
+  const int iy0 = std::max(0, static_cast<int>(std::floor((crater.y_m - reach_m - field.origin_y_m) /
+                                                          field.resolution_m)));
+  const int iy1 = std::min(field.nodes_y - 1,
+                           static_cast<int>(std::ceil((crater.y_m + reach_m - field.origin_y_m) /
+                                                      field.resolution_m)));
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    const double y_m = field.origin_y_m + iy * field.resolution_m;
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      const double x_m = field.origin_x_m + ix * field.resolution_m;
+      float& h = field.heights_m[static_cast<std::size_t>(iy) * field.nodes_x + ix];
+      h = static_cast<float>(h + crater_relief_m(crater, x_m, y_m));
+    }
+  }
+}
+
+std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_t seed,
+                                     const std::vector<Eigen::Vector2d>& keep_clear_W,
+                                     double keep_clear_m) {
   std::mt19937_64 rng(seed);
-  const int count = uniform_int(rng, field.min_count, field.max_count);
+  const double box_area_m2 = (field.max_x_m - field.min_x_m) * 2.0 * field.max_abs_y_m;
+  const int count = draw_count(rng, field.min_count, field.max_count, field.density_per_m2,
+                               box_area_m2, "rock_field");
   std::vector<Rock> rocks;
-  constexpr int kMaxAttempts = 10000;
-  for (int attempt = 0; attempt < kMaxAttempts && static_cast<int>(rocks.size()) < count;
+  const int max_attempts = std::max(10000, 100 * count);
+  for (int attempt = 0; attempt < max_attempts && static_cast<int>(rocks.size()) < count;
        ++attempt) {
     Rock rock;
-    rock.radius_m = uniform(rng, field.min_radius_m, field.max_radius_m);
+    rock.radius_m = draw_radius_m(field.size_distribution, field.power_law_exponent,
+                                  field.min_radius_m, field.max_radius_m, unit_double(rng()));
     rock.x_m = uniform(rng, field.min_x_m, field.max_x_m);
     rock.y_m = uniform(rng, -field.max_abs_y_m, field.max_abs_y_m);
     rock.buried_m = uniform(rng, 0.0, field.max_buried_fraction) * rock.radius_m;
@@ -345,7 +489,13 @@ std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_
       return std::hypot(rock.x_m - other.x_m, rock.y_m - other.y_m) <
              rock.radius_m + other.radius_m + field.min_gap_m;
     });
-    if (!overlaps) rocks.push_back(rock);
+    if (overlaps) continue;
+    if (keep_clear_m > 0.0) {
+      const double reach_m = rock.radius_m + keep_clear_m;
+      if (nearest_squared_m2(keep_clear_W, Eigen::Vector2d(rock.x_m, rock.y_m)) < reach_m * reach_m)
+        continue;
+    }
+    rocks.push_back(rock);
   }
   check(static_cast<int>(rocks.size()) == count,
         "terrain: cannot place " + std::to_string(count) +
@@ -353,26 +503,93 @@ std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_
   return rocks;
 }
 
+std::vector<Crater> place_random_craters(const CraterFieldOptions& field, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const double box_area_m2 = (field.max_x_m - field.min_x_m) * 2.0 * field.max_abs_y_m;
+  const int count = draw_count(rng, field.min_count, field.max_count, field.density_per_m2,
+                               box_area_m2, "crater_field");
+  std::vector<Crater> craters;
+  const int max_attempts = std::max(10000, 100 * count);
+  for (int attempt = 0; attempt < max_attempts && static_cast<int>(craters.size()) < count;
+       ++attempt) {
+    Crater crater;
+    crater.radius_m = draw_radius_m(field.size_distribution, field.power_law_exponent,
+                                    field.min_radius_m, field.max_radius_m, unit_double(rng()));
+    crater.x_m = uniform(rng, field.min_x_m, field.max_x_m);
+    crater.y_m = uniform(rng, -field.max_abs_y_m, field.max_abs_y_m);
+    crater.depth_m = field.depth_ratio * 2.0 * crater.radius_m;
+    crater.rim_height_m = field.rim_ratio * 2.0 * crater.radius_m;
+    if (std::hypot(crater.x_m, crater.y_m) - crater.radius_m < field.clear_radius_m) continue;
+    craters.push_back(crater);
+  }
+  check(static_cast<int>(craters.size()) == count,
+        "terrain: cannot place " + std::to_string(count) +
+            " craters outside crater_field.clear_radius_m; enlarge the box");
+  return craters;
+}
+
+namespace {
+
+// Independent random streams of make_terrain (each component takes its own key so that
+// changing, say, the rock count does not reshuffle the ground).
+struct TerrainSeeds {
+  std::uint64_t ground = 0;
+  std::uint64_t rocks = 0;
+  std::uint64_t craters = 0;
+};
+
+TerrainSeeds terrain_seeds(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  TerrainSeeds seeds;
+  seeds.ground = rng();
+  seeds.rocks = rng();
+  seeds.craters = rng();
+  return seeds;
+}
+
+}  // namespace
+
+std::vector<Crater> terrain_craters(const TerrainOptions& options) {
+  std::vector<Crater> craters;
+  if (options.scenario == "craters") {
+    craters = place_random_craters(options.crater_field, terrain_seeds(options.seed).craters);
+  }
+  craters.insert(craters.end(), options.extra_craters.begin(), options.extra_craters.end());
+  return craters;
+}
+
 Terrain make_terrain(const TerrainOptions& options) {
   validate(options);
-  // One master engine; each component takes its own key so that changing, say, the
-  // rock count does not reshuffle the ground.
-  std::mt19937_64 rng(options.seed);
-  const std::uint64_t ground_key = rng();
-  const std::uint64_t rock_seed = rng();
+  const TerrainSeeds seeds = terrain_seeds(options.seed);
 
   GroundPlane plane;
+  SineWave wave;
   Heightfield detail;
   std::vector<Rock> rocks;
+  if (options.scenario == "rocks" || options.scatter_rocks) {
+    rocks = place_random_rocks(options.rock_field, seeds.rocks, options.keep_clear_W,
+                               options.keep_clear_m);  // may throw: do it first
+  }
+  const std::vector<Crater> craters = terrain_craters(options);
   if (options.scenario == "ramp") {
     plane.slope_x = std::tan(options.ramp_deg * kPi / 180.0);
-  } else if (options.scenario == "rocks") {
-    rocks = place_random_rocks(options.rock_field, rock_seed);  // may throw: do it first
+  } else if (options.scenario == "sine") {
+    wave = options.sine;
+  } else if (options.scenario == "rocks" || options.scenario == "craters") {
     detail = make_fractal_heightfield(options.center_W, options.size_x_m, options.size_y_m,
-                                      options.resolution_m, options.noise, ground_key);
+                                      options.resolution_m, options.noise, seeds.ground);
+  }
+  if (!craters.empty()) {
+    if (detail.heights_m.empty()) {  // a flat detail grid to carry the craters
+      FractalNoiseOptions none;
+      none.octaves = 0;
+      detail = make_fractal_heightfield(options.center_W, options.size_x_m, options.size_y_m,
+                                        options.resolution_m, none, 0);
+    }
+    for (const Crater& crater : craters) add_crater(crater, detail);
   }
   rocks.insert(rocks.end(), options.extra_rocks.begin(), options.extra_rocks.end());
-  return Terrain(plane, std::move(detail), std::move(rocks));
+  return Terrain(plane, wave, std::move(detail), std::move(rocks));
 }
 
 }  // namespace hazmap::sim

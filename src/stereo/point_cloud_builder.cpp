@@ -7,14 +7,23 @@ namespace hazmap {
 PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
                                      const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
                                      const Pose3d& T_B_C, const cv::Rect& valid_roi)
+    : PointCloudBuilder(stereo, sensor, geometry, R1, T_B_C, valid_roi, cv::Rect()) {}
+
+PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
+                                     const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
+                                     const Pose3d& T_B_C, const cv::Rect& valid_roi,
+                                     const cv::Rect& valid_roi_right)
     : stereo_(stereo),
       sensor_(sensor),
       model_(sensor.model == "ray" ? SensorModel::ray : SensorModel::axis),
       geometry_(geometry),
-      roi_(valid_roi) {
+      roi_(valid_roi),
+      roi_right_(valid_roi_right) {
   Pose3d T_C_Cr = Pose3d::Identity();
   T_C_Cr.linear() = R1.transpose();
   T_B_Cr_ = T_B_C * T_C_Cr;
+  const auto& r = stereo.roi_px;
+  if (r[2] > 0 && r[3] > 0) roi_ &= cv::Rect(r[0], r[1], r[2], r[3]);
 }
 
 Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
@@ -23,7 +32,20 @@ Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
 
 void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
                               const Pose3d& T_W_B, PointCloud& cloud) const {
+  build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, nullptr);
+}
+
+void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
+                              const Pose3d& T_W_B, PointCloud& cloud,
+                              std::vector<cv::Point>& pixels) const {
+  build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, &pixels);
+}
+
+void PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                   const Pose3d& T_W_B, PointCloud& cloud,
+                                   std::vector<cv::Point>* pixels) const {
   cloud.clear();
+  if (pixels) pixels->clear();
   const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
   const Eigen::Matrix3d R = T_W_Cr.linear();
   const Eigen::Vector3d t = T_W_Cr.translation();
@@ -31,7 +53,13 @@ void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x1
   // Disparity bounds equivalent to the depth gate, so the gate costs one compare.
   const double d_min = fb / stereo_.z_max_m, d_max = fb / stereo_.z_min_m;
   const int step = stereo_.stride;
-  const cv::Rect roi = roi_ & cv::Rect(0, 0, disparity_x16.cols, disparity_x16.rows);
+  // Right-image bounds on u - d (sub-pixel: the match must lie inside the valid columns).
+  const bool check_right = roi_right_.area() > 0;
+  const double right_u_min = roi_right_.x, right_u_max = roi_right_.x + roi_right_.width - 1;
+  const cv::Rect roi = roi_ & cv::Rect(0, 0, disparity_x16.cols, disparity_x16.rows) &
+                       (check_right ? cv::Rect(0, roi_right_.y, disparity_x16.cols,
+                                               roi_right_.height)
+                                    : cv::Rect(0, 0, disparity_x16.cols, disparity_x16.rows));
   for (int v = roi.y; v < roi.y + roi.height; v += step) {
     const int16_t* row = disparity_x16.ptr<int16_t>(v);
     for (int u = roi.x; u < roi.x + roi.width; u += step) {
@@ -39,6 +67,7 @@ void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x1
       if (d16 <= invalid_below_x16 || d16 <= 0) continue;
       const double d = d16 / 16.0;
       if (d < d_min || d > d_max) continue;
+      if (check_right && (u - d < right_u_min || u - d > right_u_max)) continue;
       const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d);
       const Eigen::Matrix3d cov_C =
           model_ == SensorModel::axis
@@ -47,7 +76,7 @@ void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x1
               : covariance_ray(geometry_, u, v, d, sensor_.pointing_error_px,
                                sensor_.disparity_error_px);
       const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
-      Measurement m;
+      Measurement m{};
       m.p_W = (R * p_C + t).cast<float>();
       m.cov_xx = static_cast<float>(cov_W(0, 0));
       m.cov_xy = static_cast<float>(cov_W(0, 1));
@@ -56,6 +85,7 @@ void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x1
       m.cov_yz = static_cast<float>(cov_W(1, 2));
       m.cov_zz = static_cast<float>(cov_W(2, 2));
       cloud.push_back(m);
+      if (pixels) pixels->emplace_back(u, v);
     }
   }
 }

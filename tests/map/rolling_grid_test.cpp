@@ -71,7 +71,7 @@ TEST(RollingGrid, JitterOfFourTenthsOfACellNeverMovesTheMap) {
 TEST(RollingLayer, KeepsCellsInViewAndClearsCellsThatLeaveLikeACopyAndShiftReference) {
   const int n = 10;
   const double r = 0.1;
-  RollingLayer<BananasRule> layer(n, r, {}, "bananas");
+  RollingLayer<BananasRule> layer(n, r, {});
   std::map<std::pair<CellIndex, CellIndex>, float> reference;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> offset(-0.6, 0.6);
@@ -80,7 +80,7 @@ TEST(RollingLayer, KeepsCellsInViewAndClearsCellsThatLeaveLikeACopyAndShiftRefer
   for (int frame = 0; frame < 300; ++frame) {
     x += dir(rng) + 0.03;  // drifts forward, sometimes jumps back a little
     y += dir(rng);
-    layer.begin_frame(x, y);
+    layer.begin_frame(x, y, 0);
     const RollingGrid& g = layer.grid();
     // Reference: forget everything outside the window.
     for (auto it = reference.begin(); it != reference.end();)
@@ -108,8 +108,8 @@ TEST(RollingLayer, KeepsCellsInViewAndClearsCellsThatLeaveLikeACopyAndShiftRefer
 }
 
 TEST(RollingLayer, MovingKCellsKeepsValuesOfCellsStillInView) {
-  RollingLayer<BananasRule> layer(8, 1.0, {}, "bananas");
-  layer.begin_frame(0.1, 0.1);  // window x, y in [-4, 4)
+  RollingLayer<BananasRule> layer(8, 1.0, {});
+  layer.begin_frame(0.1, 0.1, 0);  // window x, y in [-4, 4)
   ASSERT_EQ(layer.grid().origin_x(), -4);
   PointCloud cloud;
   for (int iy = -4; iy < 4; ++iy)
@@ -119,7 +119,7 @@ TEST(RollingLayer, MovingKCellsKeepsValuesOfCellsStillInView) {
       cloud.push_back(m);
     }
   EXPECT_EQ(layer.insert(cloud), 64u);
-  layer.begin_frame(3.5, 0.1);  // 3 cells east of the block: the window shifts by 3
+  layer.begin_frame(3.5, 0.1, 0);  // 3 cells east of the block: the window shifts by 3
   EXPECT_EQ(layer.grid().origin_x(), -4 + 3);
   for (int iy = -4; iy < 4; ++iy)
     for (int ix = -1; ix < 7; ++ix) {
@@ -130,13 +130,13 @@ TEST(RollingLayer, MovingKCellsKeepsValuesOfCellsStillInView) {
 }
 
 TEST(RollingLayer, JumpLargerThanTheWindowClearsEverything) {
-  RollingLayer<BananasRule> layer(4, 1.0, {}, "bananas");
-  layer.begin_frame(0, 0);
+  RollingLayer<BananasRule> layer(4, 1.0, {});
+  layer.begin_frame(0, 0, 0);
   PointCloud cloud(1);
   cloud[0].p_W = Eigen::Vector3f(0.5f, 0.5f, 1.0f);
   layer.insert(cloud);
-  layer.begin_frame(100, 0);
-  layer.begin_frame(0, 0);
+  layer.begin_frame(100, 0, 0);
+  layer.begin_frame(0, 0, 0);
   EXPECT_TRUE(std::isnan(BananasRule::height(layer.cell(0, 0))));
 }
 

@@ -47,8 +47,8 @@ TEST(Pipeline, FlatGroundIsMappedLevelAndTraversable) {
   const LayerView& view = pipeline->layers()[0];
   std::vector<float> err;
   int hazards = 0, traversable = 0;
-  for (size_t i = 0; i < view.height.values.size(); ++i) {
-    if (!std::isnan(view.height.values[i])) err.push_back(std::abs(view.height.values[i]));
+  for (size_t i = 0; i < view.map.height.values.size(); ++i) {
+    if (!std::isnan(view.map.height.values[i])) err.push_back(std::abs(view.map.height.values[i]));
     hazards += view.hazard.values[i] == float(HazardClass::hazard);
     traversable += view.hazard.values[i] == float(HazardClass::traversable);
   }

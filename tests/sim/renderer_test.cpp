@@ -1,56 +1,31 @@
-// Renderer and sequence simulator: hit points on the surface, exact stereo geometry
-// (rectified rows, disparity = f B / Z), shading and noise against closed forms,
-// determinism (threads, seeds) and the files of a simulated sequence (SPEC 2).
+// Renderer: hit points on the surface, exact stereo geometry (rectified rows,
+// disparity = f B / Z), shading and noise against closed forms, determinism across
+// threads, and the rock grid against testing every rock.
 
 #include "hazmap/sim/renderer.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <map>
-#include <sstream>
+#include <limits>
+#include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <yaml-cpp/yaml.h>
 
-#include "hazmap/core/error.hpp"
-#include "hazmap/io/jdem.hpp"
 #include "hazmap/sim/simulate.hpp"
 #include "hazmap/sim/terrain.hpp"
-#include "test_support.hpp"
 
 namespace hazmap::sim {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSurfaceToleranceM = 1e-4;   // hit point vs height_m
 constexpr double kPixelTolerancePx = 1e-6;    // reprojection, rectified rows
 constexpr double kRelativeDisparityTolerance = 1e-6;
 constexpr double kTestScale = 0.1;            // 160 x 130 px: fast
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-
-// Relative path -> content of every regular file below `root`.
-std::map<std::string, std::string> read_tree(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file()) {
-      files[fs::relative(entry.path(), root).string()] = read_file(entry.path());
-    }
-  }
-  return files;
-}
 
 SimulationOptions small_options() {
   SimulationOptions options;
@@ -268,119 +243,65 @@ TEST(Renderer, ImageIsIndependentOfThreadCount) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Sequence files (SPEC 2)
+// Many rocks: the rock grid finds the same hits as testing every rock
 
-TEST(SimulateSequence, SameSeedSameBytesOtherSeedOtherImages) {
-  testing::TempDir tmp;
-  SimulationOptions options = small_options();
-  options.write_ground_truth = true;
-  options.ground_truth_margin_m = 0.3;
-  simulate_sequence(options, tmp.path() / "a");
-  simulate_sequence(options, tmp.path() / "b");
-  const auto a = read_tree(tmp.path() / "a");
-  const auto b = read_tree(tmp.path() / "b");
-  for (const char* name : {"left/000000.png", "left/000001.png", "right/000001.png",
-                           "poses.txt", "calibration.yaml", "gt_height.jdem",
-                           "gt_hazard.jdem"}) {
-    EXPECT_EQ(a.count(name), 1u) << name;
+// Nearest hit of a ray from above flat ground z = 0 among rocks (spheres whose visible
+// part is above z = 0) and the ground, by brute force. Returns t, and the rock or -1.
+std::pair<double, int> brute_force_hit(const Terrain& terrain, const Eigen::Vector3d& o,
+                                       const Eigen::Vector3d& d) {
+  double t_best = d.z() < 0.0 ? -o.z() / d.z() : std::numeric_limits<double>::infinity();
+  int best = -1;
+  for (std::size_t i = 0; i < terrain.rocks().size(); ++i) {
+    const Eigen::Vector3d oc = o - terrain.rock_center_W(i);
+    const double r = terrain.rocks()[i].radius_m;
+    const double b = oc.dot(d);
+    const double disc = b * b - (oc.squaredNorm() - r * r);
+    if (disc < 0.0) continue;
+    const double t = -b - std::sqrt(disc);
+    if (t <= 0.0 || t >= t_best || (o + t * d).z() < 0.0) continue;
+    t_best = t;
+    best = static_cast<int>(i);
   }
-  EXPECT_TRUE(a == b);
-
-  options.seed = 2;
-  simulate_sequence(options, tmp.path() / "c");
-  const auto c = read_tree(tmp.path() / "c");
-  EXPECT_NE(a.at("left/000000.png"), c.at("left/000000.png"));
-  EXPECT_NE(a.at("right/000001.png"), c.at("right/000001.png"));
+  return {t_best, best};
 }
 
-TEST(SimulateSequence, WritesCalibrationPosesAndGroundTruth) {
-  testing::TempDir tmp;
-  SimulationOptions options = small_options();
-  options.frames = 3;
-  options.write_ground_truth = true;
-  options.ground_truth_margin_m = 0.3;
-  simulate_sequence(options, tmp.path());
-
-  // calibration.yaml: rectified CADRE pair at scale 0.1.
-  const YAML::Node calib = YAML::LoadFile((tmp.path() / "calibration.yaml").string());
-  EXPECT_EQ(calib["image_width"].as<int>(), 160);
-  EXPECT_EQ(calib["image_height"].as<int>(), 130);
-  const std::vector<double> K_expected = {67.1, 0, 79.5, 0, 67.1, 64.5, 0, 0, 1};
-  for (const char* side : {"left", "right"}) {
-    EXPECT_EQ(calib[side]["K"].as<std::vector<double>>(), K_expected) << side;
-    EXPECT_EQ(calib[side]["D"].as<std::vector<double>>(), std::vector<double>(5, 0.0));
-  }
-  EXPECT_EQ(calib["R"].as<std::vector<double>>(),
-            (std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
-  EXPECT_EQ(calib["T"].as<std::vector<double>>(), (std::vector<double>{-0.05, 0, 0}));
-  EXPECT_EQ(calib["T_body_left"]["translation"].as<std::vector<double>>(),
-            (std::vector<double>{0, 0.025, 0.15}));
-  const auto q = calib["T_body_left"]["quaternion"].as<std::vector<double>>();
-  ASSERT_EQ(q.size(), 4u);
-  const Eigen::Quaterniond q_B_C(q[3], q[0], q[1], q[2]);  // file: qx qy qz qw
-  const StereoRig rig = make_cadre_rig(kTestScale);
-  EXPECT_TRUE(q_B_C.normalized().toRotationMatrix().isApprox(rig.T_B_CL.linear(), 1e-12));
-
-  // poses.txt: comments, then `name t x y z qx qy qz qw` along +x on the ground.
-  const Terrain terrain = make_simulation_terrain(options);
-  std::ifstream poses(tmp.path() / "poses.txt");
-  std::string line;
-  int frame = 0;
-  while (std::getline(poses, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string name;
-    double t, x, y, z, qx, qy, qz, qw;
-    ASSERT_TRUE(fields >> name >> t >> x >> y >> z >> qx >> qy >> qz >> qw) << line;
-    char expected_name[8];
-    std::snprintf(expected_name, sizeof(expected_name), "%06d", frame);
-    EXPECT_EQ(name, expected_name);
-    EXPECT_EQ(t, frame);
-    EXPECT_NEAR(x, frame * options.step_m, 1e-12);
-    EXPECT_EQ(y, 0.0);
-    EXPECT_NEAR(z, terrain.ground_height_m(x, 0.0), 1e-11);
-    EXPECT_EQ(Eigen::Vector4d(qx, qy, qz, qw), Eigen::Vector4d(0, 0, 0, 1));
-    EXPECT_TRUE(fs::exists(tmp.path() / "right" / (name + ".png")));
-    const cv::Mat image = cv::imread((tmp.path() / "left" / (name + ".png")).string(),
-                                     cv::IMREAD_UNCHANGED);
-    EXPECT_EQ(image.type(), CV_8UC1);
-    EXPECT_EQ(image.cols, 160);
-    EXPECT_EQ(image.rows, 130);
-    ++frame;
-  }
-  EXPECT_EQ(frame, 3);
-
-  // Ground truth: travelled area +- 0.3 m at 1 cm, cell borders on the 1 cm lattice.
-  const JdemGrid height = read_jdem(tmp.path() / "gt_height.jdem");
-  const JdemGrid hazard = read_jdem(tmp.path() / "gt_hazard.jdem");
-  EXPECT_EQ(height.rows, 60);
-  EXPECT_EQ(height.cols, 68);  // x from -0.30 to 0.38
-  EXPECT_NEAR(height.center_x_m, 0.04, 1e-12);
-  EXPECT_NEAR(height.resolution_m, 0.01, 1e-12);
-  EXPECT_EQ(hazard.values.size(), height.values.size());
-  float max_hazard_m = 0.0f;
-  for (float v : hazard.values) max_hazard_m = std::max(max_hazard_m, v);
-  double max_rock_m = 0.0;
-  for (const Rock& rock : terrain.rocks()) {
-    if (rock.x_m - rock.radius_m < 0.38) {
-      max_rock_m = std::max(max_rock_m, rock.radius_m - rock.buried_m);
+TEST(Renderer, RockGridGivesTheHitsOfTestingEveryRock) {
+  TerrainOptions options;
+  options.scenario = "flat";
+  options.scatter_rocks = true;
+  options.rock_field.density_per_m2 = 20.0;  // 320 rocks in 4 m x 4 m
+  options.rock_field.min_x_m = -1.0;
+  options.rock_field.max_x_m = 3.0;
+  options.rock_field.max_abs_y_m = 2.0;
+  options.rock_field.min_gap_m = 0.0;
+  const Terrain terrain = make_terrain(options);
+  ASSERT_EQ(terrain.rocks().size(), 320u);
+  std::mt19937_64 rng(3);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * unit_double(rng()); };
+  int rock_hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector3d o(uniform(-1.5, 3.5), uniform(-2.5, 2.5), uniform(0.1, 0.3));
+    const Eigen::Vector3d d =
+        Eigen::Vector3d(uniform(-1, 1), uniform(-1, 1), uniform(-0.5, 0.05)).normalized();
+    const auto [t_expected, rock_expected] = brute_force_hit(terrain, o, d);
+    const auto hit = cast_ray(terrain, o, d);
+    if (!std::isfinite(t_expected) || t_expected > RayCastOptions().max_range_m) {
+      EXPECT_FALSE(hit);
+      continue;
     }
+    ASSERT_TRUE(hit) << "ray " << i;
+    const Eigen::Vector3d p_expected = o + t_expected * d;
+    if (hit->rock_index != rock_expected) {
+      // Only where a rock meets the ground can the march's tolerance decide the other way.
+      EXPECT_LT(p_expected.z(), kSurfaceToleranceM) << "ray " << i;
+      continue;
+    }
+    // Rocks are exact; the ground is found to |z| < 1e-5 m, i.e. t to 1e-5 / |d_z|.
+    const double tolerance_m = rock_expected >= 0 ? 1e-9 : 1e-5 / std::abs(d.z()) + 1e-9;
+    ASSERT_NEAR(hit->range_m, t_expected, tolerance_m) << "ray " << i;
+    rock_hits += rock_expected >= 0;
   }
-  EXPECT_LE(max_hazard_m, max_rock_m + 0.01);
-  EXPECT_GT(max_hazard_m, 0.0f);  // default rocks start 0.25 m ahead: some are in the grid
-}
-
-TEST(SimulateSequence, RejectsBadOptions) {
-  testing::TempDir tmp;
-  SimulationOptions options = small_options();
-  options.frames = 0;
-  EXPECT_THROW(simulate_sequence(options, tmp.path()), Error);
-  options = small_options();
-  options.scenario = "moon";
-  EXPECT_THROW(simulate_sequence(options, tmp.path()), Error);
-  options = small_options();
-  options.scale = 0.0;
-  EXPECT_THROW(simulate_sequence(options, tmp.path()), Error);
+  EXPECT_GT(rock_hits, 2000);
 }
 
 }  // namespace

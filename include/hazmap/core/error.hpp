@@ -15,7 +15,11 @@ class Error : public std::runtime_error {
 };
 
 /// Throws Error(message) when `condition` is false. Active in every build type,
-/// unlike assert.
+/// unlike assert. The const char* form builds no string unless it throws, so it is free
+/// on the per-frame path.
+inline void check(bool condition, const char* message) {
+  if (!condition) throw Error(message);
+}
 void check(bool condition, const std::string& message);
 
 }  // namespace hazmap

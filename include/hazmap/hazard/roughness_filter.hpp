@@ -33,6 +33,9 @@ class RoughnessFilter {
  private:
   std::vector<float> row_max_, row_min_, row_count_;
   std::vector<int> deque_;
+  int kernel_ = -1;            ///< kernel of the cached widths
+  std::vector<int> widths_;    ///< kernel_half_widths(kernel_)
+  std::vector<unsigned char> width_used_;
 };
 
 /// Brute-force O(cells * D^2) reference of RoughnessFilter::compute.

@@ -3,6 +3,7 @@
 // `--set key=value` overrides, validated in one place. Unknown keys, wrong types and
 // impossible values are errors that name the key.
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -25,8 +26,16 @@ struct StereoConfig {
   int sgbm_p1 = 0;                  ///< 0: 8 * block_size^2
   int sgbm_p2 = 0;                  ///< 0: 32 * block_size^2
   std::string sgbm_mode = "hh";     ///< sgbm | hh | sgbm_3way | hh4
+  std::string pre_filter_type = "normalized_response";  ///< StereoBM: normalized_response | xsobel
+  int pre_filter_size = 9;          ///< StereoBM normalized_response window: odd, 5..255
+  /// Significant bits of 16-bit input (10, 12, ...: the pair is scaled by 2^(8 - bits) to
+  /// 8 bit); 0 detects them per pair from the brighter image. Ignored for 8-bit input.
+  int input_bits = 0;
   double rectify_alpha = 0.0;
   int stride = 1;                   ///< use every stride-th pixel in u and v
+  /// Region of interest in the rectified left image, pixels: x, y, width, height.
+  /// width or height 0: the whole image. Pixels outside produce no points.
+  std::array<int, 4> roi_px{0, 0, 0, 0};
   double z_min_m = 0.05;
   double z_max_m = 10.0;
 };

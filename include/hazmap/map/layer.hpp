@@ -1,33 +1,70 @@
 #pragma once
 // One layer of the map: a rolling ring buffer of cells updated by one rule. The
-// type-erased interface is called once per frame (never per point); the rule's cell
-// update is inlined in RollingLayer<Rule>::insert.
+// type-erased interface is called once per frame and layer (never per point); the
+// rule's per-point work is inlined in RollingLayer<Rule>::insert.
 
-#include <memory>
-#include <string>
+#include <cstdint>
+#include <vector>
 
 #include "hazmap/map/dense_grid.hpp"
 #include "hazmap/map/measurement.hpp"
+#include "hazmap/map/moments.hpp"
+#include "hazmap/map/pose_uncertainty.hpp"
 #include "hazmap/map/rolling_grid.hpp"
 
 namespace hazmap {
+
+/// Everything a layer can tell about its window, in image order (row 0 = largest y).
+/// Plane grids (slope, roughness, coverage, evaluable) are filled by CCM layers only and
+/// left empty (rows = 0) otherwise.
+struct LayerGrids {
+  DenseGrid height;     ///< at the cell centre [m] (CCM: its plane there); NaN unknown
+  DenseGrid variance;   ///< height variance [m^2], inflated by pose uncertainty if enabled
+  DenseGrid count;      ///< points behind the cell
+  DenseGrid slope_x;    ///< dz/dx of the cell plane
+  DenseGrid slope_y;    ///< dz/dy
+  DenseGrid roughness;  ///< plane-normal variance rho [m^2]
+  DenseGrid coverage;   ///< kappa
+  DenseGrid evaluable;  ///< 1 evaluable, 0 not
+};
+
+/// Per-parent-cell pooled moments of a finer layer (finest_then_pool), indexed by the
+/// parent's storage slot; allocated once.
+struct PoolGrid {
+  std::vector<Moments> cells;
+};
 
 class Layer {
  public:
   virtual ~Layer() = default;
 
-  /// Rolls the window to the robot's position (clearing cells that left) and applies
-  /// the rule's per-frame update (e.g. Kalman time inflation) to the cells in view.
-  virtual void begin_frame(double robot_x_m, double robot_y_m) = 0;
+  /// Rolls the window to the robot (clearing cells that left) and applies the rule's
+  /// per-frame update (Kalman inflation, OMG decay) to known cells.
+  virtual void begin_frame(double robot_x_m, double robot_y_m, std::uint32_t frame) = 0;
 
-  /// Inserts every point whose cell is inside the window; returns how many were used.
-  virtual size_t insert(const PointCloud& cloud) = 0;
+  /// Inserts every point whose cell is inside the window (and not covered by the finer
+  /// layer, in pooling mode) and merges the frame into the cells. Returns points used.
+  virtual std::size_t insert(const PointCloud& cloud) = 0;
 
-  /// Dense height (cell-centre height, NaN unknown) and variance grids of the window.
-  virtual void export_height(DenseGrid& out) const = 0;
-  virtual void export_variance(DenseGrid& out) const = 0;
+  /// Pooling (SPEC 5, 6.5): mark which cells are fully covered by the finer layer's
+  /// window; a cell that becomes covered captures its current value as its prior.
+  virtual void update_coverage(const RollingGrid& finer) = 0;
+  /// Adds this (finer) layer's cells into `pool`, for the parent's covered cells only.
+  virtual void pool_into(PoolGrid& pool, const Layer& parent) const = 0;
+  /// Rebuilds covered cells as prior (+) pool.
+  virtual void rebuild_covered(PoolGrid& pool) = 0;
+  virtual bool covered(int slot) const = 0;
+
+  /// Exports the window's grids (buffers reused). With `pose` the variance is inflated
+  /// by the pose uncertainty added since each cell's last update.
+  virtual void export_grids(LayerGrids& out, const PoseUncertainty* pose, double robot_x_m,
+                            double robot_y_m) const = 0;
+
+  /// Moments of the cell holding global index (ix, iy) (empty if unknown or outside).
+  virtual Moments cell_moments(CellIndex ix, CellIndex iy) const = 0;
 
   virtual const char* rule_name() const = 0;
+  virtual bool has_plane() const = 0;
   virtual const RollingGrid& grid() const = 0;
 };
 

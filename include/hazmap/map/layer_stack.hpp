@@ -1,35 +1,55 @@
 #pragma once
-// The multi-resolution map: layers finest first (SPEC 5), built once from the config.
+// The multi-resolution map (SPEC 5): layers finest first, each with its own rule,
+// built once from the config. Per frame: begin_frame (roll + per-frame rule updates),
+// insert (all_layers or finest_then_pool), then export grids for hazards and output.
 
 #include <memory>
 #include <vector>
 
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer.hpp"
+#include "hazmap/map/pose_uncertainty.hpp"
 
 namespace hazmap {
 
-/// Builds the layer for `layer` with its rule (one switch over the YAML rule name).
-/// Throws Error naming the key for rules that are not available.
-std::unique_ptr<Layer> make_layer(const LayerConfig& layer, const RulesConfig& rules,
-                                  size_t index);
+/// Builds layer `index` of `map` with its rule (one switch over the YAML rule name).
+std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules, std::size_t index);
+
+/// CCM weighting named in the config.
+CcmWeighting ccm_weighting(const CcmConfig& ccm);
 
 class LayerStack {
  public:
-  LayerStack(const MapConfig& map, const RulesConfig& rules);
+  /// `pose_uncertainty`: track pose noise and inflate exported variances (SPEC 7).
+  LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose_uncertainty = false);
 
   /// Rolls every layer to the robot position and applies per-frame rule updates.
-  void begin_frame(double robot_x_m, double robot_y_m);
-  /// Inserts the frame's points (map.insertion = all_layers). Returns the number of
-  /// point-into-layer updates.
-  size_t insert(const PointCloud& cloud);
+  /// `noise`: pose noise added since the previous frame (SPEC 2), if known.
+  void begin_frame(double robot_x_m, double robot_y_m, const PoseNoise& noise = {});
 
-  size_t size() const { return layers_.size(); }
-  const Layer& layer(size_t i) const { return *layers_[i]; }
-  Layer& layer(size_t i) { return *layers_[i]; }
+  /// Inserts the frame's points (prepare_measurements must have filled the derived
+  /// fields) and, in finest_then_pool mode, rebuilds covered coarse cells from their
+  /// children. Returns the number of point-into-layer updates.
+  std::size_t insert(const PointCloud& cloud);
+
+  /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
+  void export_layer(std::size_t i, LayerGrids& out) const;
+
+  std::size_t size() const { return layers_.size(); }
+  const Layer& layer(std::size_t i) const { return *layers_[i]; }
+  Layer& layer(std::size_t i) { return *layers_[i]; }
+  bool pooling() const { return pooling_; }
+  std::uint32_t frame() const { return frame_; }
 
  private:
   std::vector<std::unique_ptr<Layer>> layers_;
+  std::vector<PoolGrid> pools_;  ///< pools_[i]: children of layer i (i >= 1)
+  bool pooling_ = false;
+  bool track_pose_ = false;
+  PoseUncertainty pose_;
+  std::uint32_t frame_ = 0;
+  bool started_ = false;
+  double robot_x_m_ = 0, robot_y_m_ = 0;
 };
 
 }  // namespace hazmap

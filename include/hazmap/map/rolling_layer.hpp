@@ -1,7 +1,15 @@
 #pragma once
-// A layer whose cells follow update rule `Rule` (see rules/): a struct with Config,
-// Cell, and static known / clear / update / begin_frame / height / variance.
+// A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
+// Cell, Sums and static known / clear / reference_z / point_weight / merge_frame /
+// begin_frame / to_moments / from_moments / height / variance).
+//
+// Per point: one multiply per axis (no division by the resolution), a floor, an
+// unsigned bounds test, a conditional subtract for the ring wrap (no modulo) and the
+// rule's Sums::add into a per-cell frame accumulator. Per frame: each touched cell is
+// merged once. All buffers are allocated in the constructor.
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "hazmap/map/layer.hpp"
@@ -11,68 +19,265 @@ namespace hazmap {
 template <class Rule>
 class RollingLayer final : public Layer {
  public:
+  /// `gate_std_m` > 0 drops points whose lateral standard deviation exceeds it (SPEC 4
+  /// max_std_ratio); `pooled` allocates the prior and coverage state of finest_then_pool.
   RollingLayer(int size, double resolution_m, const typename Rule::Config& config,
-               const char* name)
+               double gate_std_m = 0.0, bool pooled = false)
       : grid_(size, resolution_m),
         config_(config),
-        name_(name),
-        cells_(static_cast<size_t>(size) * size) {}
+        inv_resolution_(1.0 / resolution_m),
+        gate_var_(gate_std_m > 0 ? static_cast<float>(gate_std_m * gate_std_m)
+                                 : std::numeric_limits<float>::infinity()),
+        cells_(cell_count()),
+        accumulators_(cell_count()),
+        updated_frame_(cell_count(), 0) {
+    touched_.reserve(cell_count());
+    if (pooled) {
+      prior_.resize(cell_count());
+      covered_.assign(cell_count(), 0);
+    }
+  }
 
-  void begin_frame(double robot_x_m, double robot_y_m) override {
+  void begin_frame(double robot_x_m, double robot_y_m, std::uint32_t frame) override {
+    frame_ = frame;
     const NewRegions regions = grid_.move_to(robot_x_m, robot_y_m);
     for (int k = 0; k < regions.count; ++k) clear(regions.ranges[k]);
     for (auto& cell : cells_) Rule::begin_frame(config_, cell);
   }
 
-  size_t insert(const PointCloud& cloud) override {
-    const double r = grid_.resolution_m();
-    size_t used = 0;
+  std::size_t insert(const PointCloud& cloud) override {
+    ++stamp_;
+    touched_.clear();
+    const int n = grid_.size();
+    const CellIndex ox = grid_.origin_x(), oy = grid_.origin_y();
+    const int wrap_x = wrap_index(ox, n), wrap_y = wrap_index(oy, n);
+    const bool pooled = !covered_.empty();
+    std::size_t used = 0;
     for (const Measurement& m : cloud) {
-      const CellIndex ix = cell_index(m.p_W.x(), r);
-      const CellIndex iy = cell_index(m.p_W.y(), r);
-      if (!grid_.contains(ix, iy)) continue;
-      Rule::update(config_, cells_[grid_.slot(ix, iy)], m.p_W.z(), m.height_variance());
+      if (m.lateral_var > gate_var_) continue;
+      const double fx = m.p_W.x() * inv_resolution_, fy = m.p_W.y() * inv_resolution_;
+      const double flx = std::floor(fx), fly = std::floor(fy);
+      const CellIndex lx = static_cast<CellIndex>(flx) - ox;
+      const CellIndex ly = static_cast<CellIndex>(fly) - oy;
+      if (static_cast<std::uint64_t>(lx) >= static_cast<std::uint64_t>(n) ||
+          static_cast<std::uint64_t>(ly) >= static_cast<std::uint64_t>(n))
+        continue;
+      int sx = static_cast<int>(lx) + wrap_x, sy = static_cast<int>(ly) + wrap_y;
+      if (sx >= n) sx -= n;
+      if (sy >= n) sy -= n;
+      const int slot = sy * n + sx;
+      if (pooled && covered_[slot]) continue;
+      Accumulator& a = accumulators_[slot];
+      if (a.stamp != stamp_) {
+        a.stamp = stamp_;
+        a.sums = typename Rule::Sums{};
+        a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m.p_W.z();
+        touched_.push_back(slot);
+      }
+      a.sums.add(Rule::point_weight(m), fx - flx - 0.5, fy - fly - 0.5,
+                 double(m.p_W.z()) - double(a.z_ref));
       ++used;
+    }
+    const double r = grid_.resolution_m();
+    for (const int slot : touched_) {
+      const Accumulator& a = accumulators_[slot];
+      Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r);
+      updated_frame_[slot] = frame_;
     }
     return used;
   }
 
-  void export_height(DenseGrid& out) const override {
-    export_values(out, [](const typename Rule::Cell& c) { return Rule::height(c); });
-  }
-  void export_variance(DenseGrid& out) const override {
-    export_values(out, [](const typename Rule::Cell& c) { return Rule::variance(c); });
+  void update_coverage(const RollingGrid& finer) override {
+    if (covered_.empty()) return;
+    const int n = grid_.size();
+    const auto ratio = static_cast<CellIndex>(std::llround(grid_.resolution_m() / finer.resolution_m()));
+    const CellIndex f0x = finer.origin_x(), f0y = finer.origin_y(), fn = finer.size();
+    for (int ly = 0; ly < n; ++ly) {
+      const CellIndex iy = grid_.origin_y() + ly;
+      const bool in_y = iy * ratio >= f0y && iy * ratio + ratio <= f0y + fn;
+      for (int lx = 0; lx < n; ++lx) {
+        const CellIndex ix = grid_.origin_x() + lx;
+        const bool now = in_y && ix * ratio >= f0x && ix * ratio + ratio <= f0x + fn;
+        const int slot = grid_.slot(ix, iy);
+        if (now && !covered_[slot]) prior_[slot] = cells_[slot];  // SPEC 5: prior at covering
+        covered_[slot] = now;
+      }
+    }
   }
 
-  const char* rule_name() const override { return name_; }
+  void pool_into(PoolGrid& pool, const Layer& parent) const override {
+    const RollingGrid& pg = parent.grid();
+    const double rc = grid_.resolution_m(), rp = pg.resolution_m();
+    const auto ratio = static_cast<CellIndex>(std::llround(rp / rc));
+    const int n = grid_.size();
+    for (int ly = 0; ly < n; ++ly) {
+      const CellIndex iy = grid_.origin_y() + ly;
+      const CellIndex py = floor_div(iy, ratio);
+      for (int lx = 0; lx < n; ++lx) {
+        const CellIndex ix = grid_.origin_x() + lx;
+        const CellIndex px = floor_div(ix, ratio);
+        if (!pg.contains(px, py)) continue;
+        const int pslot = pg.slot(px, py);
+        if (!parent.covered(pslot)) continue;
+        const typename Rule::Cell& c = cells_[grid_.slot(ix, iy)];
+        if (!Rule::known(c)) continue;
+        Moments m = Rule::to_moments(c);
+        // Child-centric -> parent-centric coordinates.
+        m.shift(cell_center(ix, rc) - cell_center(px, rp), cell_center(iy, rc) - cell_center(py, rp));
+        pool.cells[pslot].merge(m);
+      }
+    }
+  }
+
+  void rebuild_covered(PoolGrid& pool) override {
+    if (covered_.empty()) return;
+    if (pool.cells.size() != cells_.size()) pool.cells.assign(cells_.size(), Moments{});
+    for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
+      if (!covered_[slot]) continue;
+      Moments m = Rule::to_moments(prior_[slot]);
+      m.merge(pool.cells[slot]);
+      Rule::from_moments(config_, cells_[slot], m);
+      pool.cells[slot] = Moments{};  // ready for the next frame
+    }
+  }
+
+  bool covered(int slot) const override { return !covered_.empty() && covered_[slot]; }
+
+  void export_grids(LayerGrids& out, const PoseUncertainty* pose, double robot_x_m,
+                    double robot_y_m) const override {
+    const int n = grid_.size();
+    const double r = grid_.resolution_m();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    auto reset = [&](DenseGrid& g) { g.reset(n, n, r, grid_.center_x_m(), grid_.center_y_m(), nan); };
+    reset(out.height);
+    reset(out.variance);
+    if constexpr (Rule::kHasPlane) {
+      for (DenseGrid* g : {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage,
+                           &out.evaluable})
+        reset(*g);
+    } else {
+      for (DenseGrid* g : {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage,
+                           &out.evaluable})
+        g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
+    }
+    for (int row = 0; row < n; ++row) {
+      const CellIndex iy = grid_.origin_y() + (n - 1 - row);
+      for (int col = 0; col < n; ++col) {
+        const CellIndex ix = grid_.origin_x() + col;
+        const typename Rule::Cell& c = cells_[grid_.slot(ix, iy)];
+        if (!Rule::known(c)) continue;
+        if constexpr (Rule::kHasPlane) {
+          double a, b;
+          Rule::slopes(config_, c, &a, &b);
+          out.height.at(row, col) = static_cast<float>(Rule::height_at(config_, c, 0.0, 0.0));
+          out.slope_x.at(row, col) = static_cast<float>(a);
+          out.slope_y.at(row, col) = static_cast<float>(b);
+          out.roughness.at(row, col) = static_cast<float>(Rule::roughness(config_, c));
+          out.coverage.at(row, col) = static_cast<float>(Rule::coverage(c, r));
+          out.evaluable.at(row, col) = Rule::evaluable(config_, c, r) ? 1.0f : 0.0f;
+          out.count.at(row, col) = static_cast<float>(c.count);
+        } else {
+          out.height.at(row, col) = Rule::height(c);
+        }
+        out.variance.at(row, col) = Rule::variance(c);
+      }
+    }
+    if (pose) inflate_variance(out, *pose, robot_x_m, robot_y_m);
+  }
+
+  Moments cell_moments(CellIndex ix, CellIndex iy) const override {
+    if (!grid_.contains(ix, iy)) return Moments{};
+    return Rule::to_moments(cells_[grid_.slot(ix, iy)]);
+  }
+
+  const char* rule_name() const override { return Rule::kName; }
+  bool has_plane() const override { return Rule::kHasPlane; }
   const RollingGrid& grid() const override { return grid_; }
 
-  /// Direct cell access by global index (tests, queries). Requires contains(ix, iy).
+  /// Direct cell access by global index (tests). Requires grid().contains(ix, iy).
   const typename Rule::Cell& cell(CellIndex ix, CellIndex iy) const {
     return cells_[grid_.slot(ix, iy)];
   }
+  const typename Rule::Config& config() const { return config_; }
 
  private:
-  void clear(const CellRange& range) {
-    for (CellIndex iy = range.y0; iy < range.y1; ++iy)
-      for (CellIndex ix = range.x0; ix < range.x1; ++ix) Rule::clear(cells_[grid_.slot(ix, iy)]);
+  struct Accumulator {
+    typename Rule::Sums sums;
+    float z_ref = 0.0f;
+    std::uint32_t stamp = 0;
+  };
+
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(grid_.size()) * static_cast<std::size_t>(grid_.size());
   }
 
-  template <class Get>
-  void export_values(DenseGrid& out, Get get) const {
+  static CellIndex floor_div(CellIndex a, CellIndex b) {
+    const CellIndex q = a / b;
+    return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+  }
+
+  void clear(const CellRange& range) {
+    for (CellIndex iy = range.y0; iy < range.y1; ++iy)
+      for (CellIndex ix = range.x0; ix < range.x1; ++ix) {
+        const int slot = grid_.slot(ix, iy);
+        Rule::clear(cells_[slot]);
+        if (!covered_.empty()) {
+          Rule::clear(prior_[slot]);
+          covered_[slot] = 0;
+        }
+      }
+  }
+
+  /// SPEC 7: variance += g^T Sigma_lat g + Sigma_zz for the noise added since the
+  /// cell's last update; g from the plane (CCM) or central differences of heights.
+  void inflate_variance(LayerGrids& out, const PoseUncertainty& pose, double rx, double ry) const {
     const int n = grid_.size();
-    out.reset(n, n, grid_.resolution_m(), grid_.center_x_m(), grid_.center_y_m(), 0.0f);
+    const double r = grid_.resolution_m();
+    auto h = [&](int row, int col) -> double {
+      if (row < 0 || col < 0 || row >= n || col >= n) return std::nan("");
+      return out.height.at(row, col);
+    };
+    auto diff = [](double lo, double mid, double hi, double step) {
+      if (!std::isnan(lo) && !std::isnan(hi)) return (hi - lo) / (2 * step);
+      if (!std::isnan(hi)) return (hi - mid) / step;
+      if (!std::isnan(lo)) return (mid - lo) / step;
+      return 0.0;
+    };
     for (int row = 0; row < n; ++row) {
       const CellIndex iy = grid_.origin_y() + (n - 1 - row);
-      for (int col = 0; col < n; ++col)
-        out.at(row, col) = get(cells_[grid_.slot(grid_.origin_x() + col, iy)]);
+      for (int col = 0; col < n; ++col) {
+        const float v = out.variance.at(row, col);
+        if (std::isnan(out.height.at(row, col))) continue;
+        const CellIndex ix = grid_.origin_x() + col;
+        double gx, gy;
+        if constexpr (Rule::kHasPlane) {
+          gx = out.slope_x.at(row, col);
+          gy = out.slope_y.at(row, col);
+        } else {
+          const double mid = h(row, col);
+          gx = diff(h(row, col - 1), mid, h(row, col + 1), r);
+          gy = diff(h(row + 1, col), mid, h(row - 1, col), r);  // row 0 = largest y
+        }
+        const double added = pose.added_variance(updated_frame_[grid_.slot(ix, iy)],
+                                                 cell_center(ix, r) - rx, cell_center(iy, r) - ry,
+                                                 gx, gy);
+        out.variance.at(row, col) = static_cast<float>((std::isnan(v) ? 0.0 : v) + added);
+      }
     }
   }
 
   RollingGrid grid_;
   typename Rule::Config config_;
-  const char* name_;
+  double inv_resolution_;
+  float gate_var_;
+  std::uint32_t frame_ = 0;
+  std::uint32_t stamp_ = 0;
   std::vector<typename Rule::Cell> cells_;
+  std::vector<Accumulator> accumulators_;
+  std::vector<std::uint32_t> updated_frame_;
+  std::vector<int> touched_;
+  std::vector<typename Rule::Cell> prior_;
+  std::vector<unsigned char> covered_;
 };
 
 }  // namespace hazmap

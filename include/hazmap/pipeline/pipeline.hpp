@@ -34,11 +34,10 @@ struct FrameReport {
 
 /// What a layer shows after a frame: dense grids in image order (row 0 = largest y).
 struct LayerView {
-  DenseGrid height;     ///< cell-centre height [m], NaN unknown
-  DenseGrid variance;   ///< [m^2]
-  DenseGrid roughness;  ///< max - min in the kernel [m]
-  DenseGrid fill;       ///< observed fraction of the kernel
-  DenseGrid hazard;     ///< HazardClass values
+  LayerGrids map;         ///< height, variance (+ plane grids for CCM layers)
+  DenseGrid kernel_range; ///< piecewise-constant layers: max - min in the kernel [m]
+  DenseGrid kernel_fill;  ///< observed fraction of the kernel
+  DenseGrid hazard;       ///< HazardClass values
 };
 
 /// Roughness parameters of a layer: the kernel from its config, the threshold given or
@@ -51,7 +50,10 @@ class Pipeline {
 
   /// Runs one stereo pair (any 8/16-bit grey or colour images of the calibrated size)
   /// taken at body pose T_W_B through the whole path.
-  FrameReport process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B);
+  /// `noise`: pose noise added since the previous frame (SPEC 2), used when
+  /// pose_uncertainty.enabled.
+  FrameReport process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
+                      const PoseNoise& noise = {});
 
   const std::vector<LayerView>& layers() const { return views_; }
   const DenseGrid& fused_hazard() const { return fused_; }
@@ -68,6 +70,7 @@ class Pipeline {
   DisparityMatcher matcher_;
   PointCloudBuilder builder_;
   LayerStack map_;
+  CcmWeighting weighting_;
   RoughnessFilter roughness_;
   std::vector<RoughnessParams> roughness_params_;
 

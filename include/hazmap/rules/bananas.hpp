@@ -3,21 +3,55 @@
 // it. No fusion, no variance; the reference the other rules are measured against.
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#include "hazmap/map/measurement.hpp"
+#include "hazmap/map/moments.hpp"
 
 namespace hazmap {
 
 struct BananasRule {
+  static constexpr const char* kName = "bananas";
+  static constexpr bool kHasPlane = false;
+
   struct Config {};
   struct Cell {
     float height_m = std::numeric_limits<float>::quiet_NaN();
   };
+  /// The frame's last point (scan-line order), relative to the reference.
+  struct Sums {
+    double last_z = 0;
+    std::uint32_t count = 0;
+    void add(double, double, double, double z) {
+      last_z = z;
+      ++count;
+    }
+  };
+
   static bool known(const Cell& c) { return !std::isnan(c.height_m); }
   static void clear(Cell& c) { c = Cell{}; }
+  static float reference_z(const Cell& c) { return c.height_m; }
+  static double point_weight(const Measurement&) { return 1.0; }
+  static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
+    if (s.count > 0) c.height_m = static_cast<float>(z_ref_m + s.last_z);
+  }
   static void update(const Config&, Cell& c, double z_m, double /*vm_m2*/) {
     c.height_m = static_cast<float>(z_m);
   }
   static void begin_frame(const Config&, Cell&) {}
+  /// Pooling view: an unweighted height sample.
+  static Moments to_moments(const Cell& c) {
+    Moments m;
+    if (!known(c)) return m;
+    m.w = 1.0;
+    m.mz = c.height_m;
+    m.count = 1;
+    return m;
+  }
+  static void from_moments(const Config&, Cell& c, const Moments& m) {
+    c.height_m = m.empty() ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(m.mz);
+  }
   static float height(const Cell& c) { return c.height_m; }
   /// The baseline has no variance model.
   static float variance(const Cell&) { return std::numeric_limits<float>::quiet_NaN(); }

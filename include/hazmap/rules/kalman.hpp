@@ -7,47 +7,109 @@
 //   per frame:    var += time_inflation on every known cell (forgetting, so that the
 //                 map can re-converge when the terrain or the pose estimate changes)
 //
-// vm is the measurement's height variance Sigma_W(2,2) (SPEC 4). Without inflation and
-// floor, the result equals the inverse-variance weighted mean of all measurements, with
-// variance 1 / sum(1/vm).
+// vm is the measurement's height variance Sigma_W(2,2) (SPEC 4). A frame's points in a
+// cell are summed in information form (sum 1/vm, sum z/vm) and merged once per frame:
+// this equals the point-by-point recursion above exactly (both are the inverse-variance
+// weighted mean, variance 1 / sum(1/vm)); only the floor is applied once per frame
+// instead of after every point, as for the CCM weight cap (SPEC 6.4).
+// The mean is stored as a float reference plus a float offset, so cells far from the
+// origin (|z| ~ 100 m) keep sub-micrometre resolution.
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#include "hazmap/map/measurement.hpp"
+#include "hazmap/map/moments.hpp"
 
 namespace hazmap {
 
 struct KalmanRule {
+  static constexpr const char* kName = "kalman";
+  static constexpr bool kHasPlane = false;
+
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
     double min_variance_m2 = 1.0e-6;    ///< convergence floor [m^2]
   };
 
-  /// var = NaN marks a cell that has never been observed.
+  /// variance NaN marks a cell that has never been observed.
   struct Cell {
-    float mean_m = 0.0f;
+    float z_ref_m = 0.0f;     ///< mean = z_ref_m + mean_off_m
+    float mean_off_m = 0.0f;
     float variance_m2 = std::numeric_limits<float>::quiet_NaN();
+  };
+
+  /// Information-form sums of one frame's points, z relative to the accumulator's reference.
+  struct Sums {
+    double w = 0, wz = 0;
+    std::uint32_t count = 0;
+    void add(double wt, double /*x*/, double /*y*/, double z) {
+      w += wt;
+      wz += wt * z;
+      ++count;
+    }
   };
 
   static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
   static void clear(Cell& c) { c = Cell{}; }
+  static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
+  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static double point_weight(const Measurement& m) { return m.inv_var_z; }
 
-  static void update(const Config& cfg, Cell& c, double z_m, double vm_m2) {
-    if (!known(c)) {
-      c.mean_m = static_cast<float>(z_m);
-      c.variance_m2 = static_cast<float>(std::max(vm_m2, cfg.min_variance_m2));
-      return;
+  static void set_mean(Cell& c, double mean_m) {
+    c.z_ref_m = static_cast<float>(mean_m);
+    c.mean_off_m = static_cast<float>(mean_m - double(c.z_ref_m));
+  }
+
+  /// Merges one frame's sums (z relative to z_ref_m) into the cell.
+  static void merge_frame(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
+                          double /*cell_m*/) {
+    if (!(s.w > 0)) return;
+    const double frame_mean = z_ref_m + s.wz / s.w;
+    double precision = s.w, mean = frame_mean;
+    if (known(c)) {
+      const double prior = 1.0 / double(c.variance_m2);
+      precision = prior + s.w;
+      mean = (prior * KalmanRule::mean(c) + s.w * frame_mean) / precision;
     }
-    const double var = c.variance_m2;
-    const double sum = var + vm_m2;
-    c.mean_m = static_cast<float>((vm_m2 * c.mean_m + var * z_m) / sum);
-    c.variance_m2 = static_cast<float>(std::max(var * vm_m2 / sum, cfg.min_variance_m2));
+    set_mean(c, mean);
+    c.variance_m2 = static_cast<float>(std::max(1.0 / precision, cfg.min_variance_m2));
+  }
+
+  /// Sequential single-point update (the SPEC 6.2 recursion), for tests and references.
+  static void update(const Config& cfg, Cell& c, double z_m, double vm_m2) {
+    Sums s;
+    s.add(1.0 / vm_m2, 0, 0, 0);
+    merge_frame(cfg, c, s, z_m, 0);
   }
 
   static void begin_frame(const Config& cfg, Cell& c) {
     if (known(c)) c.variance_m2 += static_cast<float>(cfg.time_inflation_m2);
   }
 
-  static float height(const Cell& c) { return known(c) ? c.mean_m : NAN; }
+  /// Pooling view: each cell is one measurement (mu, var): weight 1/var.
+  static Moments to_moments(const Cell& c) {
+    Moments m;
+    if (!known(c)) return m;
+    m.w = 1.0 / double(c.variance_m2);
+    m.mz = mean(c);
+    m.szz = 1.0;  // w * var: keeps OMG parents' spread meaning consistent
+    m.count = 1;
+    return m;
+  }
+  static void from_moments(const Config& cfg, Cell& c, const Moments& m) {
+    if (m.empty()) {
+      clear(c);
+      return;
+    }
+    set_mean(c, m.mz);
+    c.variance_m2 = static_cast<float>(std::max(1.0 / m.w, cfg.min_variance_m2));
+  }
+
+  static float height(const Cell& c) {
+    return known(c) ? static_cast<float>(mean(c)) : std::numeric_limits<float>::quiet_NaN();
+  }
   static float variance(const Cell& c) { return c.variance_m2; }
 };
 

@@ -1,8 +1,8 @@
 #pragma once
-// Exact per-pixel ray casting of a synthetic Terrain into an ideal (distortion-free)
-// pinhole camera. Geometry is exact to the ray-casting tolerance, so a rectified pair
-// rendered with this module has true disparity f B / Z at every pixel: tests and
-// evaluations can compare a stereo pipeline against it.
+// Exact per-pixel ray casting of a synthetic Terrain into a pinhole camera, with or
+// without lens distortion (camera_model.hpp). Geometry is exact to the ray-casting
+// tolerance, so an ideal rectified pair rendered with this module has true disparity
+// f B / Z at every pixel: tests and evaluations can compare a stereo pipeline against it.
 //
 // Frames: W world (z up); C camera, OpenCV convention (x right, y down, z forward).
 // Pixel centres are at integer (u, v); pixel (u, v) covers [u - 0.5, u + 0.5).
@@ -14,28 +14,10 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/core/types.hpp"
+#include "hazmap/sim/camera_model.hpp"
 #include "hazmap/sim/terrain.hpp"
 
 namespace hazmap::sim {
-
-/// Ideal pinhole camera (no distortion). u = fx X/Z + cx, v = fy Y/Z + cy.
-struct PinholeCamera {
-  int width_px = 0;
-  int height_px = 0;
-  double fx_px = 0.0;
-  double fy_px = 0.0;
-  double cx_px = 0.0;
-  double cy_px = 0.0;
-
-  /// Direction through pixel position (u, v) in C, scaled so that z = 1 (not unit).
-  Eigen::Vector3d ray_C(double u_px, double v_px) const {
-    return Eigen::Vector3d((u_px - cx_px) / fx_px, (v_px - cy_px) / fy_px, 1.0);
-  }
-  /// Pixel position of a point in C (requires p_C.z() > 0).
-  Eigen::Vector2d project(const Eigen::Vector3d& p_C) const {
-    return Eigen::Vector2d(fx_px * p_C.x() / p_C.z() + cx_px, fy_px * p_C.y() / p_C.z() + cy_px);
-  }
-};
 
 /// Where a ray meets the terrain.
 struct RayHit {
@@ -58,8 +40,9 @@ struct RayCastOptions {
 /// Nearest intersection of the ray origin_W + t direction_W (t > 0) with the terrain
 /// within max_range_m. Ground: conservative marching with step h / (|d_z| + G |d_xy|)
 /// (G = Terrain::max_ground_gradient(), h = height above ground), then bisection.
-/// Rocks: analytic ray-sphere intersection, counting only hits above the ground (a rock
-/// containing the origin is ignored). `direction_W` need not be unit. Returns nullopt for
+/// Rocks: analytic ray-sphere intersection with the rocks the terrain's RockGrid lists
+/// along the ray, counting only hits above the ground (a rock containing the origin is
+/// ignored); the same answer as testing every rock. `direction_W` need not be unit. Returns nullopt for
 /// sky. The origin should be above the ground; from below, the result is "hit at once".
 /// Thread-safe.
 std::optional<RayHit> cast_ray(const Terrain& terrain, const Eigen::Vector3d& origin_W,
@@ -103,8 +86,8 @@ class Renderer {
   /// (samples_per_axis < 1, negative noise, ...).
   Renderer(const Terrain& terrain, const RenderOptions& options, std::uint64_t texture_seed);
 
-  /// Renders the camera at pose T_W_C (camera C in W). Returns CV_8UC1, height_px x
-  /// width_px. Sky is black. Image noise comes from a counter-based hash of
+  /// Renders the camera at pose T_W_C (camera C in W), through its lens distortion if
+  /// any. Returns CV_8UC1, height_px x width_px. Sky is black. Image noise comes from a counter-based hash of
   /// (noise_key, pixel), so the image is bit-identical for any thread count.
   /// Parallel over rows (cv::parallel_for_).
   cv::Mat render(const PinholeCamera& camera, const Pose3d& T_W_C,

@@ -1,6 +1,7 @@
 #pragma once
-// Synthetic terrain for the simulator: a ground surface (an analytic plane plus a detail
-// heightfield sampled on a regular grid) with analytic hemispherical rocks on top.
+// Synthetic terrain for the simulator: a ground surface (an analytic plane and sine wave
+// plus a detail heightfield sampled on a regular grid, which carries fractal noise and
+// craters) with analytic spherical-cap rocks on top.
 //
 // The ground is what a rover drives on; rocks are obstacles. Ground truth for the
 // evaluation (SPEC 10) is sampled from the same functions the renderer ray-casts, so the
@@ -13,11 +14,13 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "hazmap/io/jdem.hpp"
+#include "hazmap/sim/rock_grid.hpp"
 
 namespace hazmap::sim {
 
@@ -74,15 +77,52 @@ struct GroundPlane {
   double slope_y = 0.0;
 };
 
-/// Ground = plane + bilinear interpolation of a detail heightfield (clamped to its edge
-/// values outside the grid, so the ground is defined and continuous everywhere), plus
-/// analytic rocks. Immutable after construction; all methods are thread-safe.
+/// A sine wave varying along one horizontal direction only (ridges run across it):
+/// z = amplitude_m sin(2 pi s / wavelength_m), s = x cos(direction) + y sin(direction).
+/// Its steepest slope is atan(2 pi amplitude_m / wavelength_m).
+struct SineWave {
+  double amplitude_m = 0.0;  ///< 0: no wave
+  double wavelength_m = 1.0;
+  double direction_rad = 0.0;  ///< of the wave vector, from W +x towards +y
+
+  double height_m(double x_m, double y_m) const;
+  /// Steepest slope dz/ds = 2 pi amplitude / wavelength (a tangent, not an angle).
+  double max_slope() const;
+};
+
+/// A crater: a parabolic bowl inside the rim crest, a raised rim, and an ejecta blanket
+/// that decays to nothing at three radii. Relief added to the ground at distance r from
+/// the centre (R = radius_m, h = rim_height_m, D = depth_m):
+///   r <= R:       -D + (h + D) (r / R)^2
+///   R < r < 3R:   h ((R / r)^3 - 1/27) / (1 - 1/27)
+///   r >= 3R:      0
+/// Continuous everywhere; the slope jumps at the rim crest (a sharp rim). The inner wall
+/// is steepest at the crest: 2 (h + D) / R.
+struct Crater {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double radius_m = 0.5;      ///< rim crest radius
+  double depth_m = 0.1;       ///< floor below the surrounding ground
+  double rim_height_m = 0.02; ///< crest above the surrounding ground
+};
+
+/// The relief a crater adds at W position (x, y), metres (formula above).
+double crater_relief_m(const Crater& crater, double x_m, double y_m);
+
+/// Ground = plane + sine wave + bilinear interpolation of a detail heightfield (clamped
+/// to its edge values outside the grid, so the ground is defined and continuous
+/// everywhere), plus analytic rocks. Immutable after construction; all methods are
+/// thread-safe.
 class Terrain {
  public:
   /// Throws Error if the heightfield's size does not match nodes_x * nodes_y, if it has
-  /// a single node along an axis, or if a rock has a non-positive radius or buried_m
-  /// outside [0, radius_m).
-  Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock> rocks);
+  /// a single node along an axis, if a rock has a non-positive radius or buried_m
+  /// outside [0, radius_m), or if the wave has a non-positive wavelength.
+  Terrain(const GroundPlane& plane, const SineWave& wave, Heightfield detail,
+          std::vector<Rock> rocks);
+  /// Same without a wave.
+  Terrain(const GroundPlane& plane, Heightfield detail, std::vector<Rock> rocks)
+      : Terrain(plane, SineWave(), std::move(detail), std::move(rocks)) {}
 
   /// Ground height (rocks excluded) at W position (x, y), metres. Defined everywhere.
   double ground_height_m(double x_m, double y_m) const;
@@ -108,7 +148,11 @@ class Terrain {
   Eigen::Vector3d rock_center_W(std::size_t i) const { return rock_centers_W_[i]; }
 
   const GroundPlane& plane() const { return plane_; }
+  const SineWave& wave() const { return wave_; }
   const Heightfield& detail() const { return detail_; }
+
+  /// Spatial index of the rocks, for ray casting with many rocks.
+  const RockGrid& rock_grid() const { return rock_grid_; }
 
   /// Ground-truth surface height (rocks included) at the centres of a rows x cols grid
   /// with cells of `resolution_m`, centred on `center_W` (JDEM layout, SPEC 9: row 0 =
@@ -126,11 +170,13 @@ class Terrain {
   double detail_height_m(double x_m, double y_m) const;
 
   GroundPlane plane_;
+  SineWave wave_;
   Heightfield detail_;
   std::vector<Rock> rocks_;
   std::vector<Eigen::Vector3d> rock_centers_W_;
   double max_ground_gradient_ = 0.0;
   double max_ground_height_m_ = 0.0;
+  RockGrid rock_grid_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -145,12 +191,31 @@ struct FractalNoiseOptions {
   double gain = 0.5;  ///< amplitude ratio between successive octaves
 };
 
-/// Random, non-overlapping rocks in a box ahead of the start (rocks scenario).
+/// How object sizes (rock or crater radii) are drawn between a minimum and a maximum.
+///   uniform   : radius uniform in [min, max);
+///   power_law : cumulative N(> r) proportional to r^-exponent, truncated to [min, max)
+///               (small objects far more common than large ones, as on the Moon).
+enum class SizeDistribution { uniform, power_law };
+
+/// "uniform" | "power_law" -> enum; throws Error naming `what` otherwise.
+SizeDistribution parse_size_distribution(const std::string& name, const std::string& what);
+const char* size_distribution_name(SizeDistribution distribution);
+
+/// Draws a radius in [min_m, max_m) from one uniform u in [0, 1) (inverse CDF).
+double draw_radius_m(SizeDistribution distribution, double exponent, double min_m,
+                     double max_m, double u);
+
+/// Random, non-overlapping rocks in a box (rocks scenario; by default just ahead of the
+/// start, so a short sequence drives up to them).
 struct RockFieldOptions {
   int min_count = 3;
   int max_count = 5;
+  /// > 0: the count is round(density * box area) instead of a draw in [min, max].
+  double density_per_m2 = 0.0;
   double min_radius_m = 0.03;
-  double max_radius_m = 0.08;
+  double max_radius_m = 0.08;  ///< equal to min_radius_m: every rock has that radius
+  SizeDistribution size_distribution = SizeDistribution::uniform;
+  double power_law_exponent = 2.5;  ///< cumulative exponent (power_law only)
   double min_x_m = 0.25;  ///< range of rock centres along W x
   double max_x_m = 0.9;
   double max_abs_y_m = 0.35;  ///< |y| of rock centres
@@ -158,11 +223,37 @@ struct RockFieldOptions {
   double min_gap_m = 0.02;  ///< free space between neighbouring rocks
 };
 
+/// Random craters in a box (craters scenario). Craters may overlap (their relief adds up).
+struct CraterFieldOptions {
+  int min_count = 5;
+  int max_count = 8;
+  double density_per_m2 = 0.0;  ///< > 0: count = round(density * box area)
+  double min_radius_m = 0.15;
+  double max_radius_m = 0.8;
+  SizeDistribution size_distribution = SizeDistribution::power_law;
+  double power_law_exponent = 2.0;
+  /// Depth below the surrounding ground and rim height, as fractions of the diameter.
+  /// 0.1 and 0.02 make inner walls of 2 (0.02 + 0.1) 2R / R = 0.48, i.e. 26 deg at the
+  /// crest: a hazard at the rim, traversable floors (fresh lunar craters reach 0.2).
+  double depth_ratio = 0.1;
+  double rim_ratio = 0.02;
+  double min_x_m = 0.5;  ///< range of crater centres along W x
+  double max_x_m = 6.0;
+  double max_abs_y_m = 2.5;
+  /// No rim comes closer than this to the W origin (the start), so the rover starts on
+  /// undisturbed ground.
+  double clear_radius_m = 0.4;
+};
+
 /// Everything that defines a terrain. Scenarios (SPEC 13 `hazmap simulate --scenario`):
-///   flat  : z = 0;
-///   ramp  : z = x tan(ramp_deg), rising along +x;
-///   rocks : fractal-noise ground (gentle, traversable) plus a random rock field.
-/// `extra_rocks` are added in every scenario.
+///   flat    : z = 0;
+///   ramp    : z = x tan(ramp_deg), rising along +x;
+///   sine    : the sine wave `sine` alone (default 5 cm amplitude, 1 m wavelength along
+///             +x: steepest slope 17.4 deg), for drift tests;
+///   rocks   : fractal-noise ground (gentle, traversable) plus a random rock field;
+///   craters : fractal-noise ground plus a random crater field.
+/// `extra_rocks` and `extra_craters` are added in every scenario; `scatter_rocks` adds the
+/// random rock field to scenarios other than rocks.
 struct TerrainOptions {
   std::string scenario = "rocks";
   std::uint64_t seed = 1;
@@ -171,9 +262,18 @@ struct TerrainOptions {
   double size_y_m = 8.0;
   double resolution_m = 0.01;   ///< node spacing of the detail grid
   double ramp_deg = 15.0;
+  SineWave sine{0.05, 1.0, 0.0};
   FractalNoiseOptions noise;
   RockFieldOptions rock_field;
+  bool scatter_rocks = false;
+  CraterFieldOptions crater_field;
   std::vector<Rock> extra_rocks;
+  std::vector<Crater> extra_craters;
+  /// Random rocks whose footprint comes closer than keep_clear_m to any of these points
+  /// are drawn again (a path the rover can drive without touching a rock). Extra rocks
+  /// are kept regardless.
+  std::vector<Eigen::Vector2d> keep_clear_W;
+  double keep_clear_m = 0.0;
 };
 
 /// The scenario names make_terrain accepts.
@@ -189,9 +289,25 @@ Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double siz
                                      double size_y_m, double resolution_m,
                                      const FractalNoiseOptions& noise, std::uint64_t key);
 
-/// Draws a rock field: rejection sampling of centres and radii until the count (itself
-/// drawn in [min_count, max_count]) is reached. Throws Error if the box cannot hold it.
-std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_t seed);
+/// Adds crater_relief_m to every node of `field` (exact at the nodes; the terrain
+/// interpolates bilinearly between them).
+void add_crater(const Crater& crater, Heightfield& field);
+
+/// Draws a rock field: rejection sampling of centres and radii until the count (drawn in
+/// [min_count, max_count], or from the density) is reached. `keep_clear_W` and
+/// `keep_clear_m` as in TerrainOptions. Throws Error if the box cannot hold the rocks.
+std::vector<Rock> place_random_rocks(const RockFieldOptions& field, std::uint64_t seed,
+                                     const std::vector<Eigen::Vector2d>& keep_clear_W = {},
+                                     double keep_clear_m = 0.0);
+
+/// Draws a crater field (count from [min_count, max_count] or the density; centres
+/// uniform in the box, outside clear_radius_m of the origin). Throws Error if the clear
+/// zone leaves no room.
+std::vector<Crater> place_random_craters(const CraterFieldOptions& field, std::uint64_t seed);
+
+/// The craters make_terrain bakes into the ground for these options (random field, then
+/// extra_craters), e.g. to list them beside a sequence.
+std::vector<Crater> terrain_craters(const TerrainOptions& options);
 
 /// Builds the terrain for `options` (validated first). Same options => identical terrain.
 Terrain make_terrain(const TerrainOptions& options);

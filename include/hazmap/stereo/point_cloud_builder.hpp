@@ -1,6 +1,14 @@
 #pragma once
 // Disparity image -> world-frame points with covariance (SPEC 3.3, 4).
-// p_W = T_W_B * T_B_C * R1^T * p_C', Sigma_W = R_W_C' Sigma_C' R_W_C'^T.
+// p_W = T_W_B * T_B_C * R1^T * p_C', Sigma_W = R_W_C' Sigma_C' R_W_C'^T, with C' the
+// rectified left camera. Applying R1^T is what keeps the map level: the rectified frame
+// is rotated against the real camera by up to half the angle between the two cameras.
+// A pixel gives a point when its disparity is valid, it lies on the stride grid, inside
+// the left camera's valid rectified region and the configured `stereo.roi`, its match
+// u - d lies in the right camera's valid region, and z_min <= Z <= z_max.
+// Thread safety: build() is const and may run concurrently on different clouds.
+
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -13,27 +21,47 @@ namespace hazmap {
 
 class PointCloudBuilder {
  public:
-  /// `valid_roi`: the part of the rectified image with valid source pixels; pixels
-  /// outside produce no points.
+  /// `valid_roi`: the part of the rectified left image with valid source pixels; pixels
+  /// outside produce no points. `T_B_C`: pose of the (unrectified) left camera in the
+  /// body frame; `R1`: p_C' = R1 p_C (identity for rectified input).
   PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
                     const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
                     const Pose3d& T_B_C, const cv::Rect& valid_roi);
 
+  /// As above, also dropping pixels whose match u - d falls outside the rectified right
+  /// image's valid region `valid_roi_right`.
+  PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
+                    const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
+                    const Pose3d& T_B_C, const cv::Rect& valid_roi,
+                    const cv::Rect& valid_roi_right);
+
   /// Fills `cloud` (cleared first; its capacity is reused) from a fixed-point disparity
-  /// image (CV_16S, x16). Keeps z_min <= Z <= z_max, every stride-th pixel.
+  /// image (CV_16S, x16). Keeps z_min <= Z <= z_max, every stride-th pixel. Fields
+  /// beyond p_W and the covariance are left for the map to fill.
   void build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
              PointCloud& cloud) const;
+
+  /// As above, and `pixels[i]` is the rectified left pixel (u, v) of cloud[i].
+  void build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
+             PointCloud& cloud, std::vector<cv::Point>& pixels) const;
 
   /// Pose of the rectified left camera in the world: T_W_B * T_B_C * R1^T.
   Pose3d rectified_camera_pose(const Pose3d& T_W_B) const;
 
+  /// The pixels that may give points: valid region & `stereo.roi` (rectified left image).
+  cv::Rect region() const { return roi_; }
+
  private:
+  void build_impl(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
+                  PointCloud& cloud, std::vector<cv::Point>* pixels) const;
+
   StereoConfig stereo_;
   SensorConfig sensor_;
   SensorModel model_;
   StereoGeometry geometry_;
   Pose3d T_B_Cr_;  ///< body <- rectified left camera
   cv::Rect roi_;
+  cv::Rect roi_right_;  ///< empty: no restriction
 };
 
 }  // namespace hazmap

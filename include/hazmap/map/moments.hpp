@@ -1,0 +1,117 @@
+#pragma once
+// Weighted first and second moments of a point set, and their exact merge (SPEC 6.5).
+// Used for per-frame merges into a cell, pooling children into a parent, and the
+// per-layer prior. Arithmetic is double; cells store float (see rules/).
+//
+//   W = sum W_i,  mu = sum W_i mu_i / W,
+//   S_ab = sum ( S_ab,i + W_i (mu_i,a - mu_a)(mu_i,b - mu_b) )
+//
+// S is the weighted co-moment (sum of w (d - mu)(d - mu)^T), so Sigma = S / W
+// (population normalisation, SPEC 12).
+
+#include <cstdint>
+
+namespace hazmap {
+
+struct Moments {
+  double w = 0.0;
+  double mx = 0.0, my = 0.0, mz = 0.0;
+  double sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
+  std::uint32_t count = 0;  ///< number of points behind the moments
+
+  bool empty() const { return !(w > 0.0); }
+
+  /// Moves the moments' x, y origin: the same points expressed relative to an origin
+  /// shifted by (-dx, -dy), i.e. mu_x += dx, mu_y += dy.
+  void shift(double dx, double dy) {
+    mx += dx;
+    my += dy;
+  }
+
+  /// this <- this (+) other, exactly (order-independent up to rounding).
+  void merge(const Moments& o) {
+    if (o.empty()) return;
+    if (empty()) {
+      *this = o;
+      return;
+    }
+    const double W = w + o.w;
+    const double f = o.w / W;
+    const double dx = o.mx - mx, dy = o.my - my, dz = o.mz - mz;
+    // W_a W_b / W (delta delta^T) is the combined spread of the two means.
+    const double c = w * f;
+    sxx += o.sxx + c * dx * dx;
+    syy += o.syy + c * dy * dy;
+    szz += o.szz + c * dz * dz;
+    sxy += o.sxy + c * dx * dy;
+    sxz += o.sxz + c * dx * dz;
+    syz += o.syz + c * dy * dz;
+    mx += f * dx;
+    my += f * dy;
+    mz += f * dz;
+    w = W;
+    count += o.count;
+  }
+
+  /// Scales the weight and co-moments by 1/psi (means unchanged): the CCM weight cap.
+  void scale_weight(double inv_psi) {
+    w *= inv_psi;
+    sxx *= inv_psi;
+    syy *= inv_psi;
+    szz *= inv_psi;
+    sxy *= inv_psi;
+    sxz *= inv_psi;
+    syz *= inv_psi;
+  }
+};
+
+/// Raw weighted sums of one frame's points in one cell, relative to a reference point
+/// (x, y in cell units from the cell centre, z in metres from a per-cell reference
+/// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
+/// in double; to_moments() converts to centred moments. No division per point.
+struct FrameSums {
+  double w = 0, x = 0, y = 0, z = 0, xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+  std::uint32_t count = 0;
+
+  void add(double wt, double px, double py, double pz) {
+    w += wt;
+    const double wx = wt * px, wy = wt * py, wz = wt * pz;
+    x += wx;
+    y += wy;
+    z += wz;
+    xx += wx * px;
+    yy += wy * py;
+    zz += wz * pz;
+    xy += wx * py;
+    xz += wx * pz;
+    yz += wy * pz;
+    ++count;
+  }
+
+  /// Centred moments with x, y in metres (cell units times `cell_m`) relative to the cell
+  /// centre and z relative to `z_ref_m` added back (absolute).
+  Moments to_moments(double cell_m, double z_ref_m) const {
+    Moments m;
+    if (!(w > 0)) return m;
+    const double ux = x / w, uy = y / w, uz = z / w;
+    const double r2 = cell_m * cell_m;
+    m.w = w;
+    m.mx = ux * cell_m;
+    m.my = uy * cell_m;
+    m.mz = uz + z_ref_m;
+    m.sxx = (xx - w * ux * ux) * r2;
+    m.syy = (yy - w * uy * uy) * r2;
+    m.szz = zz - w * uz * uz;
+    m.sxy = (xy - w * ux * uy) * r2;
+    m.sxz = (xz - w * ux * uz) * cell_m;
+    m.syz = (yz - w * uy * uz) * cell_m;
+    // Rounding can leave tiny negative variances for single points.
+    if (m.sxx < 0) m.sxx = 0;
+    if (m.syy < 0) m.syy = 0;
+    if (m.szz < 0) m.szz = 0;
+    m.count = count;
+    return m;
+  }
+};
+
+}  // namespace hazmap

@@ -1,0 +1,149 @@
+#pragma once
+// Converging Covariance Map rule (SPEC 6.4): per cell the weighted mean and co-moments
+// of the 3-D points, x and y relative to the cell centre. A cell therefore knows a plane
+// (height at any point inside it, slopes), its roughness about that plane, and how well
+// its points cover it.
+//
+//   W' = W + w,  delta = d - mu,  mu' = mu + (w/W') delta,  S' = S + w delta (d - mu')^T
+//
+// A frame's points in a cell are summed relative to a reference (no division per point)
+// and merged with the exact moment merge (SPEC 6.5), equal to the recursion above; the
+// weight cap (W > W_l: W, S divided by W/W_l) then acts once per frame, as SPEC 6.4
+// requires. Storage is float; the mean height is a float reference plus a float offset,
+// so cells at |z| ~ 100 m with millimetre spreads keep their co-moments (no E[x^2]-mu^2).
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "hazmap/map/measurement.hpp"
+#include "hazmap/map/moments.hpp"
+
+namespace hazmap {
+
+struct CcmRule {
+  static constexpr const char* kName = "ccm";
+  static constexpr bool kHasPlane = true;
+
+  struct Config {
+    double max_weight = 500;    ///< W_l: weight cap applied once per frame
+    int min_points = 10;        ///< evaluable needs at least this many points
+    double min_coverage = 0.8;  ///< evaluable needs kappa >= this
+    bool full_plane = true;     ///< use Sxy (SPEC 6.4); false: the thesis' 9-float forms
+  };
+
+  struct Cell {
+    float w = 0.0f;
+    float mx_m = 0.0f, my_m = 0.0f;  ///< mean x, y relative to the cell centre
+    float z_ref_m = 0.0f, mz_off_m = 0.0f;
+    float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;  ///< co-moments
+    std::uint32_t count = 0;
+  };
+
+  using Sums = FrameSums;
+
+  static bool known(const Cell& c) { return c.w > 0.0f; }
+  static void clear(Cell& c) { c = Cell{}; }
+  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static double point_weight(const Measurement& m) { return m.ccm_weight; }
+  static double mean_z(const Cell& c) { return double(c.z_ref_m) + double(c.mz_off_m); }
+
+  static Moments to_moments(const Cell& c) {
+    Moments m;
+    if (!known(c)) return m;
+    m.w = c.w;
+    m.mx = c.mx_m;
+    m.my = c.my_m;
+    m.mz = mean_z(c);
+    m.sxx = c.sxx, m.syy = c.syy, m.szz = c.szz;
+    m.sxy = c.sxy, m.sxz = c.sxz, m.syz = c.syz;
+    m.count = c.count;
+    return m;
+  }
+
+  /// Stores moments into the cell, applying the weight cap.
+  static void from_moments(const Config& cfg, Cell& c, Moments m) {
+    if (m.empty()) {
+      clear(c);
+      return;
+    }
+    if (m.w > cfg.max_weight) m.scale_weight(cfg.max_weight / m.w);
+    c.w = static_cast<float>(m.w);
+    c.mx_m = static_cast<float>(m.mx);
+    c.my_m = static_cast<float>(m.my);
+    c.z_ref_m = static_cast<float>(m.mz);
+    c.mz_off_m = static_cast<float>(m.mz - double(c.z_ref_m));
+    c.sxx = static_cast<float>(m.sxx), c.syy = static_cast<float>(m.syy);
+    c.szz = static_cast<float>(m.szz), c.sxy = static_cast<float>(m.sxy);
+    c.sxz = static_cast<float>(m.sxz), c.syz = static_cast<float>(m.syz);
+    c.count = m.count;
+  }
+
+  static void merge_frame(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
+                          double cell_m) {
+    if (!(s.w > 0)) return;
+    Moments m = to_moments(c);
+    m.merge(s.to_moments(cell_m, z_ref_m));
+    from_moments(cfg, c, m);
+  }
+
+  static void begin_frame(const Config&, Cell&) {}
+
+  // ---- Queries (SPEC 6.4); covariances are S / W. ----
+
+  /// Slopes (dz/dx, dz/dy) of the cell's plane; (0, 0) when the lateral spread is
+  /// degenerate (a line of points or a single point).
+  static void slopes(const Config& cfg, const Cell& c, double* a, double* b) {
+    *a = 0.0;
+    *b = 0.0;
+    if (!known(c)) return;
+    const double sxx = c.sxx, syy = c.syy, sxy = cfg.full_plane ? double(c.sxy) : 0.0;
+    const double det = sxx * syy - sxy * sxy;
+    if (!(det > 1e-12 * (sxx * syy)) || !(sxx > 0) || !(syy > 0)) return;
+    *a = (syy * c.sxz - sxy * c.syz) / det;
+    *b = (sxx * c.syz - sxy * c.sxz) / det;
+  }
+
+  /// Height of the plane at cell-centric point (qx, qy) [m]: mu_z + a (qx - mx) + b (qy - my).
+  static double height_at(const Config& cfg, const Cell& c, double qx_m, double qy_m) {
+    double a, b;
+    slopes(cfg, c, &a, &b);
+    return mean_z(c) + a * (qx_m - c.mx_m) + b * (qy_m - c.my_m);
+  }
+
+  /// Plane-normal variance rho = szz - c^T Sxy^-1 c [m^2] (thesis form when !full_plane).
+  static double roughness(const Config& cfg, const Cell& c) {
+    if (!known(c)) return std::numeric_limits<double>::quiet_NaN();
+    double a, b;
+    slopes(cfg, c, &a, &b);
+    // c^T Sxy^-1 c = [a b] . c  for the solved slopes (and the diagonal thesis form).
+    const double rho = (c.szz - (a * c.sxz + b * c.syz)) / c.w;
+    return std::max(rho, 0.0);
+  }
+
+  /// Inclination of the plane [rad].
+  static double inclination(const Config& cfg, const Cell& c) {
+    double a, b;
+    slopes(cfg, c, &a, &b);
+    return std::atan(std::sqrt(a * a + b * b));
+  }
+
+  /// Lateral coverage kappa = min(sxx, syy) / (r^2 / 12); 1 for points spread uniformly.
+  static double coverage(const Cell& c, double cell_m) {
+    if (!known(c)) return 0.0;
+    return std::min(c.sxx, c.syy) / c.w / (cell_m * cell_m / 12.0);
+  }
+
+  static bool evaluable(const Config& cfg, const Cell& c, double cell_m) {
+    return known(c) && c.count >= static_cast<std::uint32_t>(cfg.min_points) &&
+           coverage(c, cell_m) >= cfg.min_coverage;
+  }
+
+  /// Height variance reported for the cell: the plane-normal spread over W plus the
+  /// roughness, i.e. szz / W (the cell's height spread).
+  static float variance(const Cell& c) {
+    return known(c) ? c.szz / c.w : std::numeric_limits<float>::quiet_NaN();
+  }
+};
+
+}  // namespace hazmap

@@ -1,0 +1,104 @@
+#pragma once
+// Optimal mixture of Gaussians rule (SPEC 6.3): (mu, var, S), weights w = 1/vm.
+//
+//   S' = S + w,  mu' = mu + (w/S')(z - mu),  var' = (S var + w (z - mu)(z - mu') + 1) / S'
+//
+// so S var = sum w (z - mu)^2 + n: var is the weighted sample spread plus the mean
+// measurement variance. A frame's points in a cell are summed (sum w, sum w z,
+// sum w z^2, n, relative to a reference height) and merged with the exact moment merge,
+// which equals the recursion above; the weight cap S <= max_weight and the decay
+// S *= decay act once per frame.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "hazmap/map/measurement.hpp"
+#include "hazmap/map/moments.hpp"
+
+namespace hazmap {
+
+struct OmgRule {
+  static constexpr const char* kName = "omg";
+  static constexpr bool kHasPlane = false;
+
+  struct Config {
+    double max_weight = 1.0e7;  ///< S cap [1/m^2]
+    double decay = 1.0;         ///< S *= decay once per frame
+  };
+
+  struct Cell {
+    float z_ref_m = 0.0f;  ///< mean = z_ref_m + mean_off_m
+    float mean_off_m = 0.0f;
+    float variance_m2 = std::numeric_limits<float>::quiet_NaN();  ///< NaN: never observed
+    float weight = 0.0f;   ///< S
+  };
+
+  struct Sums {
+    double w = 0, wz = 0, wzz = 0;
+    std::uint32_t count = 0;
+    void add(double wt, double, double, double z) {
+      w += wt;
+      const double t = wt * z;
+      wz += t;
+      wzz += t * z;
+      ++count;
+    }
+  };
+
+  static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
+  static void clear(Cell& c) { c = Cell{}; }
+  static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
+  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static double point_weight(const Measurement& m) { return m.inv_var_z; }
+
+  static Moments to_moments(const Cell& c) {
+    Moments m;
+    if (!known(c)) return m;
+    m.w = c.weight;
+    m.mz = mean(c);
+    m.szz = double(c.weight) * double(c.variance_m2);
+    m.count = 1;
+    return m;
+  }
+  static void from_moments(const Config& cfg, Cell& c, const Moments& m) {
+    if (m.empty()) {
+      clear(c);
+      return;
+    }
+    c.z_ref_m = static_cast<float>(m.mz);
+    c.mean_off_m = static_cast<float>(m.mz - double(c.z_ref_m));
+    c.variance_m2 = static_cast<float>(m.szz / m.w);
+    c.weight = static_cast<float>(std::min(m.w, cfg.max_weight));
+  }
+
+  static void merge_frame(const Config& cfg, Cell& c, const Sums& s, double z_ref_m, double) {
+    if (!(s.w > 0)) return;
+    Moments f;
+    f.w = s.w;
+    const double u = s.wz / s.w;
+    f.mz = z_ref_m + u;
+    f.szz = std::max(0.0, s.wzz - s.w * u * u) + s.count;  // spread + n (the "+1" per point)
+    f.count = s.count;
+    Moments m = to_moments(c);
+    m.merge(f);
+    from_moments(cfg, c, m);
+  }
+
+  static void update(const Config& cfg, Cell& c, double z_m, double vm_m2) {
+    Sums s;
+    s.add(1.0 / vm_m2, 0, 0, 0);
+    merge_frame(cfg, c, s, z_m, 0);
+  }
+
+  static void begin_frame(const Config& cfg, Cell& c) {
+    if (known(c)) c.weight = static_cast<float>(c.weight * cfg.decay);
+  }
+
+  static float height(const Cell& c) {
+    return known(c) ? static_cast<float>(mean(c)) : std::numeric_limits<float>::quiet_NaN();
+  }
+  static float variance(const Cell& c) { return c.variance_m2; }
+};
+
+}  // namespace hazmap

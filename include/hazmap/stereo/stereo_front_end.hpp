@@ -1,0 +1,65 @@
+#pragma once
+// The stereo front end of SPEC 3-4 in one object: grey conversion -> rectification
+// (maps built once) -> disparity -> world-frame points with covariance. Every buffer
+// lives here and is reused from frame to frame; after the first frame of a given size
+// the path allocates nothing but what OpenCV's matchers allocate internally.
+// Not thread-safe: one front end per thread (matching itself uses OpenCV's pool).
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "hazmap/camera/rectifier.hpp"
+#include "hazmap/camera/stereo_calibration.hpp"
+#include "hazmap/io/config.hpp"
+#include "hazmap/stereo/disparity.hpp"
+#include "hazmap/stereo/grey_pair.hpp"
+#include "hazmap/stereo/point_cloud_builder.hpp"
+
+namespace hazmap {
+
+/// Wall time of each stage of one frame, milliseconds.
+struct StereoTimes {
+  double grey_ms = 0;       ///< colour / 16-bit to 8-bit grey
+  double rectify_ms = 0;    ///< cv::remap of both images
+  double disparity_ms = 0;  ///< StereoBM / StereoSGBM
+  double points_ms = 0;     ///< triangulation, covariance, transform to W
+  double total() const { return grey_ms + rectify_ms + disparity_ms + points_ms; }
+};
+
+class StereoFrontEnd {
+ public:
+  /// Builds the rectification maps and the matcher. Throws Error on an unusable
+  /// calibration or configuration.
+  StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& sensor,
+                 const StereoCalibration& calibration);
+
+  /// Runs one pair (8/16-bit, grey or colour, the calibrated size) taken at body pose
+  /// T_W_B. Results stay valid until the next call. Throws Error on a bad image.
+  StereoTimes process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B);
+
+  const cv::Mat& rectified_left() const { return rect_left_; }    ///< 8-bit grey
+  const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
+  const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
+  const PointCloud& cloud() const { return cloud_; }              ///< world frame
+  /// Rectified left pixel of each point of cloud().
+  const std::vector<cv::Point>& pixels() const { return pixels_; }
+  /// Significant bits the last pair was scaled from (8 for 8-bit input).
+  int input_bits() const { return input_bits_; }
+
+  const Rectifier& rectifier() const { return rectifier_; }
+  const DisparityMatcher& matcher() const { return matcher_; }
+  const PointCloudBuilder& builder() const { return builder_; }
+
+ private:
+  GreyPairConverter grey_;
+  Rectifier rectifier_;
+  DisparityMatcher matcher_;
+  PointCloudBuilder builder_;
+  cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
+  PointCloud cloud_;
+  std::vector<cv::Point> pixels_;
+  int input_bits_ = 8;
+};
+
+}  // namespace hazmap

@@ -1,0 +1,217 @@
+#include "hazmap/camera/chessboard_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hazmap/core/error.hpp"
+#include "hazmap/io/images.hpp"
+
+namespace fs = std::filesystem;
+
+namespace hazmap {
+namespace {
+
+bool is_image_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  for (const char* e : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm"})
+    if (ext == e) return true;
+  return false;
+}
+
+/// Images of `dir` keyed by name: the stem, minus `prefix` when one is given (files not
+/// starting with it are ignored).
+std::map<std::string, fs::path> images_by_name(const fs::path& dir, const std::string& prefix) {
+  std::map<std::string, fs::path> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file() || !is_image_file(entry.path())) continue;
+    const std::string stem = entry.path().stem().string();
+    if (stem.rfind(prefix, 0) != 0) continue;
+    out.emplace(stem.substr(prefix.size()), entry.path());
+  }
+  return out;
+}
+
+std::vector<cv::Point3f> board_points(const ChessboardOptions& o) {
+  std::vector<cv::Point3f> points;
+  for (int row = 0; row < o.inner_corners.height; ++row)
+    for (int col = 0; col < o.inner_corners.width; ++col)
+      points.emplace_back(static_cast<float>(col * o.square_m),
+                          static_cast<float>(row * o.square_m), 0.0f);
+  return points;
+}
+
+Eigen::Matrix3d to_eigen3(const cv::Mat& m) {
+  Eigen::Matrix3d out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out(r, c) = m.at<double>(r, c);
+  return out;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k =
+      std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * static_cast<double>(v.size()))) - 1);
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+std::vector<ChessboardPairFiles> find_chessboard_pairs(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw Error(dir.string() + ": image folder not found");
+  std::map<std::string, fs::path> lefts = images_by_name(dir / "left", "");
+  std::map<std::string, fs::path> rights = images_by_name(dir / "right", "");
+  if (lefts.empty()) {
+    lefts = images_by_name(dir, "left");
+    rights = images_by_name(dir, "right");
+  }
+  std::vector<ChessboardPairFiles> pairs;
+  for (const auto& [name, left] : lefts) {
+    const auto it = rights.find(name);
+    if (it == rights.end()) {
+      spdlog::warn("{}: no right image to pair with, skipped", left.string());
+      continue;
+    }
+    pairs.push_back({name, left, it->second});
+  }
+  if (pairs.empty())
+    throw Error(dir.string() + ": no image pairs (expected left/<name> + right/<name>, or "
+                               "left<tag> + right<tag> images)");
+  return pairs;
+}
+
+bool detect_chessboard(const cv::Mat& grey8, const ChessboardOptions& o,
+                       std::vector<cv::Point2f>& corners_px) {
+  corners_px.clear();
+  const int flags = cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE;
+  if (!cv::findChessboardCorners(grey8, o.inner_corners, corners_px, flags)) {
+    corners_px.clear();
+    return false;
+  }
+  const int w = o.subpix_half_window_px;
+  cv::cornerSubPix(grey8, corners_px, cv::Size(w, w), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-4));
+  return true;
+}
+
+ChessboardCalibration calibrate_chessboard_pairs(const fs::path& dir, const ChessboardOptions& o) {
+  std::vector<ChessboardView> views;
+  std::vector<std::string> rejected;
+  cv::Size size;
+  cv::Mat grey_left, grey_right;
+  for (const ChessboardPairFiles& pair : find_chessboard_pairs(dir)) {
+    to_gray8(read_image(pair.left), grey_left);
+    to_gray8(read_image(pair.right), grey_right);
+    if (size.area() == 0) size = grey_left.size();
+    for (const auto* p : {&pair.left, &pair.right}) {
+      const cv::Size s = p == &pair.left ? grey_left.size() : grey_right.size();
+      if (s != size)
+        throw Error(p->string() + ": image is " + std::to_string(s.width) + "x" +
+                    std::to_string(s.height) + ", the first pair's is " +
+                    std::to_string(size.width) + "x" + std::to_string(size.height));
+    }
+    ChessboardView view;
+    view.name = pair.name;
+    const bool found_left = detect_chessboard(grey_left, o, view.left_px);
+    const bool found_right = found_left && detect_chessboard(grey_right, o, view.right_px);
+    if (!found_left || !found_right) {
+      spdlog::info("pair {}: board not found in the {} image, skipped", pair.name,
+                   found_left ? "right" : "left");
+      rejected.push_back(pair.name);
+      continue;
+    }
+    // A board of 9x6 inner corners looks the same turned by 180 deg, so the detector may
+    // number the corners from opposite ends in the two images: the first-to-last corner
+    // vector must point the same way in both (the cameras are nearly parallel).
+    const cv::Point2f dl = view.left_px.back() - view.left_px.front();
+    const cv::Point2f dr = view.right_px.back() - view.right_px.front();
+    if (dl.dot(dr) < 0) std::reverse(view.right_px.begin(), view.right_px.end());
+    views.push_back(std::move(view));
+  }
+  ChessboardCalibration result = calibrate_stereo(views, size, o);
+  result.rejected = rejected;
+  return result;
+}
+
+ChessboardCalibration calibrate_stereo(const std::vector<ChessboardView>& views,
+                                       cv::Size image_size, const ChessboardOptions& o) {
+  if (views.size() < 3)
+    throw Error("calibration: the board was found in both images of only " +
+                std::to_string(views.size()) + " pairs; at least 3 are needed");
+  const std::vector<cv::Point3f> board = board_points(o);
+  std::vector<std::vector<cv::Point3f>> object(views.size(), board);
+  std::vector<std::vector<cv::Point2f>> left, right;
+  for (const auto& v : views) {
+    if (v.left_px.size() != board.size() || v.right_px.size() != board.size())
+      throw Error("calibration: view " + v.name + " does not hold " +
+                  std::to_string(board.size()) + " corners in both images");
+    left.push_back(v.left_px);
+    right.push_back(v.right_px);
+  }
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-10);
+  // Mono calibrations first: stereoCalibrate's joint optimisation is local, and starts
+  // far better from each camera's own intrinsics than from a guess.
+  cv::Mat K1, D1, K2, D2;
+  std::vector<cv::Mat> rvecs, tvecs;
+  const double rms_left = cv::calibrateCamera(object, left, image_size, K1, D1, rvecs, tvecs, 0,
+                                              criteria);
+  const double rms_right = cv::calibrateCamera(object, right, image_size, K2, D2, rvecs, tvecs, 0,
+                                               criteria);
+  spdlog::debug("mono calibration RMS: left {:.3f} px, right {:.3f} px", rms_left, rms_right);
+  cv::Mat R, T, E, F, per_view;
+  const double rms = cv::stereoCalibrate(object, left, right, K1, D1, K2, D2, image_size, R, T, E,
+                                         F, per_view, cv::CALIB_USE_INTRINSIC_GUESS, criteria);
+  ChessboardCalibration out;
+  out.rms_px = rms;
+  out.views = views;
+  for (int i = 0; i < per_view.rows; ++i) {
+    const double el = per_view.at<double>(i, 0), er = per_view.at<double>(i, 1);
+    out.view_rms_px.push_back(std::sqrt((el * el + er * er) / 2.0));
+  }
+  StereoCalibration& c = out.calibration;
+  c.image_width = image_size.width;
+  c.image_height = image_size.height;
+  c.left.K = to_eigen3(K1);
+  c.right.K = to_eigen3(K2);
+  c.left.D.assign(D1.ptr<double>(), D1.ptr<double>() + D1.total());
+  c.right.D.assign(D2.ptr<double>(), D2.ptr<double>() + D2.total());
+  c.R = to_eigen3(R);
+  c.T = Eigen::Vector3d(T.at<double>(0), T.at<double>(1), T.at<double>(2));
+  validate(c, "calibration");
+  return out;
+}
+
+RowAlignment row_alignment(const std::vector<ChessboardView>& views) {
+  std::vector<double> dy;
+  for (const auto& v : views)
+    for (size_t i = 0; i < v.left_px.size() && i < v.right_px.size(); ++i)
+      dy.push_back(std::abs(static_cast<double>(v.left_px[i].y) - v.right_px[i].y));
+  RowAlignment a;
+  a.points = dy.size();
+  if (dy.empty()) return a;
+  for (double d : dy) a.mean_abs_dy_px += d;
+  a.mean_abs_dy_px /= static_cast<double>(dy.size());
+  a.max_abs_dy_px = *std::max_element(dy.begin(), dy.end());
+  a.p99_abs_dy_px = percentile(dy, 0.99);
+  return a;
+}
+
+RowAlignment measure_row_alignment(const Rectifier& rectifier,
+                                   const std::vector<ChessboardView>& views) {
+  std::vector<ChessboardView> rectified(views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    rectified[i].name = views[i].name;
+    rectifier.rectify_points(StereoSide::left, views[i].left_px, rectified[i].left_px);
+    rectifier.rectify_points(StereoSide::right, views[i].right_px, rectified[i].right_px);
+  }
+  return row_alignment(rectified);
+}
+
+}  // namespace hazmap

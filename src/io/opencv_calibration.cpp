@@ -1,0 +1,120 @@
+#include "hazmap/io/opencv_calibration.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include "hazmap/core/error.hpp"
+
+namespace hazmap {
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& key,
+                       const std::string& what) {
+  throw Error(path.string() + ": key '" + key + "': " + what);
+}
+
+cv::FileStorage open(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) throw Error(path.string() + ": cannot open calibration file");
+  try {
+    cv::FileStorage fs(path.string(), cv::FileStorage::READ);
+    if (!fs.isOpened()) throw Error(path.string() + ": cannot open calibration file");
+    return fs;
+  } catch (const cv::Exception& e) {
+    throw Error(path.string() + ": not a readable OpenCV FileStorage file: " + e.err);
+  }
+}
+
+cv::Mat read_matrix(const cv::FileStorage& fs, const std::filesystem::path& path,
+                    const std::string& key) {
+  const cv::FileNode node = fs[key];
+  if (node.empty()) fail(path, key, "missing required key");
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception& e) {
+    fail(path, key, "not a matrix: " + e.err);
+  }
+  if (m.empty()) fail(path, key, "not a matrix (expected !!opencv-matrix)");
+  cv::Mat out;
+  m.convertTo(out, CV_64F);
+  return out;
+}
+
+Eigen::Matrix3d camera_matrix(const cv::Mat& m, const std::filesystem::path& path,
+                              const std::string& key) {
+  if (m.rows != 3 || m.cols != 3) fail(path, key, "expected a 3x3 matrix");
+  Eigen::Matrix3d K;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) K(r, c) = m.at<double>(r, c);
+  return K;
+}
+
+std::vector<double> distortion(const cv::Mat& m, const std::filesystem::path& path,
+                               const std::string& key) {
+  const int n = static_cast<int>(m.total());
+  if ((m.rows != 1 && m.cols != 1) || !(n == 4 || n == 5 || n == 8 || n == 12 || n == 14))
+    fail(path, key, "expected 4, 5, 8, 12 or 14 distortion coefficients");
+  return std::vector<double>(m.ptr<double>(), m.ptr<double>() + n);
+}
+
+int read_int(const cv::FileNode& node) {
+  return node.isInt() ? static_cast<int>(node) : static_cast<int>(static_cast<double>(node));
+}
+
+}  // namespace
+
+StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& path,
+                                                 const OpenCvCalibrationOptions& options,
+                                                 const std::filesystem::path& extrinsics) {
+  const cv::FileStorage fs = open(path);
+  StereoCalibration c;
+  c.left.K = camera_matrix(read_matrix(fs, path, "M1"), path, "M1");
+  c.left.D = distortion(read_matrix(fs, path, "D1"), path, "D1");
+  c.right.K = camera_matrix(read_matrix(fs, path, "M2"), path, "M2");
+  c.right.D = distortion(read_matrix(fs, path, "D2"), path, "D2");
+
+  const std::filesystem::path& ext_path = extrinsics.empty() ? path : extrinsics;
+  const cv::FileStorage ext_fs = extrinsics.empty() ? fs : open(extrinsics);
+  const cv::Mat R = read_matrix(ext_fs, ext_path, "R");
+  cv::Mat R33;
+  if (R.rows == 3 && R.cols == 3) {
+    R33 = R;
+  } else if (R.total() == 3) {
+    cv::Rodrigues(R.reshape(1, 3), R33);
+  } else {
+    fail(ext_path, "R", "expected a 3x3 rotation matrix or a Rodrigues vector");
+  }
+  c.R = camera_matrix(R33, ext_path, "R");
+  const cv::Mat T = read_matrix(ext_fs, ext_path, "T");
+  if (T.total() != 3) fail(ext_path, "T", "expected 3 numbers");
+  c.T = Eigen::Vector3d(T.at<double>(0), T.at<double>(1), T.at<double>(2)) * options.T_to_m;
+
+  c.image_width = options.image_width;
+  c.image_height = options.image_height;
+  if (!fs["image_width"].empty() && !fs["image_height"].empty()) {
+    c.image_width = read_int(fs["image_width"]);
+    c.image_height = read_int(fs["image_height"]);
+  } else {
+    for (const char* key : {"imageSize", "image_size"}) {
+      const cv::FileNode node = fs[key];
+      if (node.empty()) continue;
+      std::vector<int> size;
+      if (node.isSeq()) {
+        for (const auto& item : node) size.push_back(read_int(item));
+      } else {
+        const cv::Mat m = read_matrix(fs, path, key);
+        for (size_t i = 0; i < m.total(); ++i) size.push_back(static_cast<int>(m.at<double>(static_cast<int>(i))));
+      }
+      if (size.size() != 2) fail(path, key, "expected [width, height]");
+      c.image_width = size[0];
+      c.image_height = size[1];
+    }
+  }
+  if (c.image_width <= 0 || c.image_height <= 0)
+    fail(path, "image_width", "no image size in the file (image_width/image_height or imageSize) "
+                              "and none given");
+  validate(c, path.string());
+  return c;
+}
+
+}  // namespace hazmap

@@ -1,0 +1,45 @@
+#include "hazmap/stereo/stereo_front_end.hpp"
+
+#include <chrono>
+
+namespace hazmap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& sensor,
+                               const StereoCalibration& calibration)
+    : grey_(stereo.input_bits),
+      rectifier_(calibration, stereo.rectify_alpha),
+      matcher_(stereo),
+      builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
+               rectifier_.valid_roi(), rectifier_.valid_roi_right()) {}
+
+StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
+                                    const Pose3d& T_W_B) {
+  StereoTimes times;
+  auto t = Clock::now();
+  input_bits_ = grey_.convert(left, right, grey_left_, grey_right_);
+  times.grey_ms = ms_since(t);
+
+  t = Clock::now();
+  rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
+  times.rectify_ms = ms_since(t);
+
+  t = Clock::now();
+  matcher_.compute(rect_left_, rect_right_, disparity_);
+  times.disparity_ms = ms_since(t);
+
+  t = Clock::now();
+  builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_);
+  times.points_ms = ms_since(t);
+  return times;
+}
+
+}  // namespace hazmap

@@ -1,0 +1,95 @@
+// The per-frame path allocates nothing once the map is built: count every operator new
+// in this test binary across frames 2..N of the map, its export and the hazard filters.
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/hazard/fused_hazard.hpp"
+#include "hazmap/hazard/roughness_filter.hpp"
+#include "hazmap/map/layer_stack.hpp"
+
+namespace {
+std::atomic<long> g_news{0};
+}
+
+void* operator new(std::size_t n) {
+  ++g_news;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
+  ++g_news;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace hazmap {
+namespace {
+
+void fill_cloud(PointCloud& cloud, std::mt19937_64& rng, double cx) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Measurement& m : cloud) {  // overwrite in place: no allocation
+    const double x = cx + u(rng), y = u(rng);
+    m.p_W = Eigen::Vector3f(float(x), float(y), float(0.02 * std::sin(9 * x)));
+    m.cov_xx = m.cov_yy = 1e-6f;
+    m.cov_xy = m.cov_xz = m.cov_yz = 0.0f;
+    m.cov_zz = 4e-6f;
+  }
+  prepare_measurements(cloud, CcmWeighting::trace);
+}
+
+void run(const std::string& insertion, bool pose) {
+  MapConfig map;
+  map.insertion = insertion;
+  const RuleKind rules_kinds[] = {RuleKind::ccm, RuleKind::ccm, RuleKind::ccm};
+  const std::pair<double, int> sizes[] = {{0.04, 64}, {0.08, 32}, {0.16, 16}};
+  for (int i = 0; i < 3; ++i) {
+    LayerConfig l;
+    l.resolution_m = sizes[i].first;
+    l.size = sizes[i].second;
+    l.rule = insertion == "all_layers" && i == 0 ? RuleKind::kalman : rules_kinds[i];
+    map.layers.push_back(l);
+  }
+  RulesConfig rules;
+  rules.ccm.max_std_ratio = 2.0;
+  LayerStack stack(map, rules, pose);
+  PointCloud cloud(50000);
+  std::mt19937_64 rng(1);
+  std::vector<LayerGrids> grids(stack.size());
+  RoughnessFilter filter;
+  DenseGrid range, fill, hazard, fused;
+  std::vector<DenseGrid> hazards(stack.size());
+  std::vector<const DenseGrid*> ptrs;
+  for (auto& h : hazards) ptrs.push_back(&h);
+  long after_first = 0;
+  for (int frame = 0; frame < 6; ++frame) {
+    if (frame == 1) after_first = g_news.load();
+    fill_cloud(cloud, rng, 0.1 * frame);  // the robot drives 10 cm per frame: layers roll
+    stack.begin_frame(0.1 * frame, 0.0, PoseNoise{0.001, 0.001, 0.001, 0.001});
+    stack.insert(cloud);
+    for (size_t i = 0; i < stack.size(); ++i) {
+      stack.export_layer(i, grids[i]);
+      filter.compute(grids[i].height, 5, range, fill);
+      classify_roughness(grids[i].height, range, fill, RoughnessParams{5, 0.03, 0.5}, hazards[i]);
+    }
+    fuse_hazards(ptrs, fused);
+  }
+  EXPECT_EQ(g_news.load() - after_first, 0) << insertion << (pose ? " with pose uncertainty" : "");
+}
+
+TEST(Allocation, PerFramePathAllocatesNothingAfterTheFirstFrame) {
+  run("all_layers", false);
+  run("finest_then_pool", false);
+  run("all_layers", true);
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,0 +1,191 @@
+// The layer stack: insertion modes, pooling, gating and pose uncertainty.
+
+#include "hazmap/map/layer_stack.hpp"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/core/error.hpp"
+#include "hazmap/map/rolling_layer.hpp"
+#include "hazmap/rules/ccm.hpp"
+
+namespace hazmap {
+namespace {
+
+Measurement point(double x, double y, double z, double sigma_z, double sigma_xy = 0.002) {
+  Measurement m{};
+  m.p_W = Eigen::Vector3f(float(x), float(y), float(z));
+  m.cov_xx = m.cov_yy = float(sigma_xy * sigma_xy);
+  m.cov_zz = float(sigma_z * sigma_z);
+  return m;
+}
+
+/// Rough terrain: a few planes and bumps with noise, over +-extent around the origin.
+PointCloud random_cloud(std::mt19937_64& rng, int n, double extent) {
+  std::uniform_real_distribution<double> u(-extent, extent), s(0.002, 0.01);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  PointCloud cloud;
+  for (int i = 0; i < n; ++i) {
+    const double x = u(rng), y = u(rng), sz = s(rng);
+    const double z = 0.1 * x - 0.05 * y + 0.02 * std::sin(13 * x) * std::cos(7 * y) + sz * noise(rng);
+    cloud.push_back(point(x, y, z, sz));
+  }
+  prepare_measurements(cloud, CcmWeighting::constant);
+  return cloud;
+}
+
+MapConfig stack(RuleKind rule, const std::string& insertion, std::vector<std::pair<double, int>> layers) {
+  MapConfig map;
+  map.insertion = insertion;
+  for (auto [r, n] : layers) {
+    LayerConfig l;
+    l.resolution_m = r;
+    l.size = n;
+    l.rule = rule;
+    map.layers.push_back(l);
+  }
+  return map;
+}
+
+RulesConfig uncapped() {
+  RulesConfig rules;
+  rules.kalman = {0.0, 0.0};
+  rules.omg.max_weight = 1e300;
+  rules.ccm.max_weight = 1e300;
+  return rules;
+}
+
+double rel(double a, double b, double scale) { return std::abs(a - b) / std::max(std::abs(b), scale); }
+
+/// Largest relative difference over every cell of coarse layers between the two modes.
+double pooled_vs_all_layers(RuleKind rule, const RulesConfig& rules, std::vector<std::pair<double, int>> layers) {
+  LayerStack all(stack(rule, "all_layers", layers), rules);
+  LayerStack pool(stack(rule, "finest_then_pool", layers), rules);
+  std::mt19937_64 rng(7);
+  for (int frame = 0; frame < 4; ++frame) {
+    const PointCloud cloud = random_cloud(rng, 20000, 0.6);
+    for (LayerStack* s : {&all, &pool}) {
+      s->begin_frame(0.001, 0.002);  // no rolling
+      s->insert(cloud);
+    }
+  }
+  double worst = 0;
+  int compared = 0;
+  for (size_t i = 1; i < all.size(); ++i) {
+    const RollingGrid& g = all.layer(i).grid();
+    for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
+      for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
+        const Moments a = all.layer(i).cell_moments(ix, iy), b = pool.layer(i).cell_moments(ix, iy);
+        EXPECT_EQ(a.empty(), b.empty());
+        if (a.empty()) continue;
+        ++compared;
+        const double spread = std::sqrt(a.szz / a.w) + 1e-6;
+        worst = std::max({worst, rel(b.w, a.w, 0), std::abs(b.mz - a.mz) / spread,
+                          rel(b.szz, a.szz, 1e-12 * a.w)});
+        if (rule == RuleKind::ccm)
+          worst = std::max({worst, rel(b.sxx, a.sxx, 0), rel(b.syy, a.syy, 0), rel(b.sxz, a.sxz, 1e-9 * a.w),
+                            std::abs(b.mx - a.mx) / g.resolution_m()});
+      }
+  }
+  EXPECT_GT(compared, 50);
+  return worst;
+}
+
+TEST(LayerStack, FinestThenPoolEqualsAllLayersWithoutRollingOrCap) {
+  EXPECT_LT(pooled_vs_all_layers(RuleKind::ccm, uncapped(), {{0.04, 8}, {0.08, 8}, {0.16, 8}}), 1e-5);
+  EXPECT_LT(pooled_vs_all_layers(RuleKind::omg, uncapped(), {{0.02, 16}, {0.04, 16}, {0.16, 8}}), 1e-5);
+  EXPECT_LT(pooled_vs_all_layers(RuleKind::kalman, uncapped(), {{0.02, 16}, {0.04, 16}, {0.16, 8}}), 1e-5);
+}
+
+TEST(LayerStack, WithTheWeightCapPoolingDiffersAndTheDifferenceIsReported) {
+  RulesConfig capped = uncapped();
+  capped.ccm.max_weight = 50;
+  const double diff = pooled_vs_all_layers(RuleKind::ccm, capped, {{0.04, 8}, {0.08, 8}, {0.16, 8}});
+  RecordProperty("ccm_capped_max_relative_difference", std::to_string(diff));
+  std::printf("finest_then_pool vs all_layers with ccm.max_weight = 50: max relative difference %.3g\n", diff);
+  EXPECT_GT(diff, 1e-3);  // the cap acts on different point sets in the two modes
+}
+
+TEST(LayerStack, MixedFamiliesNeedAllLayers) {
+  Config c;
+  c.map = stack(RuleKind::kalman, "finest_then_pool", {{0.01, 8}, {0.04, 8}});
+  c.map.layers[1].rule = RuleKind::ccm;
+  try {
+    validate(c);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("map.layers.1.rule"), std::string::npos) << e.what();
+  }
+  c.map.insertion = "all_layers";
+  EXPECT_NO_THROW(validate(c));
+}
+
+TEST(LayerStack, GateDropsPointsWithLargeLateralSpreadForCcmLayers) {
+  RulesConfig rules = uncapped();
+  rules.ccm.max_std_ratio = 1.0;  // gate: std <= r / sqrt(12) = 1.15 cm at r = 4 cm
+  LayerStack s(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), rules);
+  s.begin_frame(0, 0);
+  PointCloud cloud{point(0.01, 0.01, 0, 0.01, 0.005), point(0.01, 0.01, 0, 0.01, 0.02)};
+  prepare_measurements(cloud, CcmWeighting::constant);
+  EXPECT_EQ(s.insert(cloud), 1u);
+  rules.ccm.max_std_ratio = 0.0;
+  LayerStack open(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), rules);
+  open.begin_frame(0, 0);
+  EXPECT_EQ(open.insert(cloud), 2u);
+}
+
+TEST(LayerStack, PoseUncertaintyInflatesVarianceBySpec7) {
+  // Kalman layer on a plane z = 0.5 x; then two frames of pose noise without points.
+  RulesConfig rules = uncapped();
+  LayerStack s(stack(RuleKind::kalman, "all_layers", {{0.1, 16}}), rules, /*pose_uncertainty=*/true);
+  s.begin_frame(0.05, 0.05);
+  PointCloud cloud;
+  for (int iy = -8; iy < 8; ++iy)
+    for (int ix = -8; ix < 8; ++ix) {
+      const double x = (ix + 0.5) * 0.1, y = (iy + 0.5) * 0.1;
+      cloud.push_back(point(x, y, 0.5 * x, 0.01));
+    }
+  prepare_measurements(cloud, CcmWeighting::constant);
+  s.insert(cloud);
+  const PoseNoise noise{0.01, 0.02, 0.005, 0.01};
+  s.begin_frame(0.05, 0.05, noise);
+  s.begin_frame(0.05, 0.05, noise);
+  LayerGrids g;
+  s.export_layer(0, g);
+  // Cell at x = 0.35, y = -0.25 (interior): o = cell - robot = (0.3, -0.3), g = (0.5, 0).
+  int row = 0, col = 0;
+  ASSERT_TRUE(g.variance.cell_at(0.35, -0.25, &row, &col));
+  const double ox = 0.3, oy = -0.3, gx = 0.5, gy = 0.0, k = 2.0;  // two frames of noise
+  const double lat = gx * (-oy) + gy * ox;                          // g . [-o_y, o_x]
+  const double expected = 1e-4 + k * (gx * gx * 1e-4 + gy * gy * 4e-4 + 1e-4 * lat * lat + 2.5e-5);
+  EXPECT_NEAR(g.variance.at(row, col), expected, 1e-6 * expected);
+}
+
+TEST(LayerStack, CcmLayerExportsPlaneGrids) {
+  LayerStack s(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), uncapped());
+  s.begin_frame(0.0, 0.0);
+  PointCloud cloud;
+  for (int j = 0; j < 160; ++j)
+    for (int i = 0; i < 160; ++i) {
+      const double x = -0.16 + (i + 0.5) * 0.002, y = -0.16 + (j + 0.5) * 0.002;
+      cloud.push_back(point(x, y, 0.2 * x - 0.1 * y + 1.0, 0.001));
+    }
+  prepare_measurements(cloud, CcmWeighting::constant);
+  s.insert(cloud);
+  LayerGrids g;
+  s.export_layer(0, g);
+  ASSERT_EQ(g.slope_x.rows, 8);
+  for (int r = 0; r < 8; ++r)
+    for (int c = 0; c < 8; ++c) {
+      EXPECT_NEAR(g.slope_x.at(r, c), 0.2, 1e-4);
+      EXPECT_NEAR(g.slope_y.at(r, c), -0.1, 1e-4);
+      const double x = g.height.x_of_col(c), y = g.height.y_of_row(r);
+      EXPECT_NEAR(g.height.at(r, c), 0.2 * x - 0.1 * y + 1.0, 1e-5);  // plane at the centre
+      EXPECT_EQ(g.evaluable.at(r, c), 1.0f);
+    }
+}
+
+}  // namespace
+}  // namespace hazmap

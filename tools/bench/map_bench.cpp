@@ -1,0 +1,85 @@
+// Map insertion cost: ns per point per layer, per rule and for whole layer stacks, with
+// points in image scan-line order (640 x 520 frame, ground within 5 m: ~190k points).
+// Run: build/hazmap_bench --benchmark_min_time=1
+
+#include <benchmark/benchmark.h>
+
+#include "bench_points.hpp"
+#include "hazmap/map/layer_stack.hpp"
+
+namespace hazmap {
+namespace {
+
+const PointCloud& frame_points() {
+  static PointCloud cloud = [] {
+    PointCloud c;
+    bench::scanline_ground_points(c, 640, 520, 0.0, 5.0);
+    return c;
+  }();
+  return cloud;
+}
+
+MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
+                   const std::string& insertion = "all_layers") {
+  MapConfig map;
+  map.insertion = insertion;
+  for (const auto& [rule, r, n] : layers) {
+    LayerConfig l;
+    l.rule = rule;
+    l.resolution_m = r;
+    l.size = n;
+    map.layers.push_back(l);
+  }
+  return map;
+}
+
+void run_insert(benchmark::State& state, const MapConfig& map) {
+  RulesConfig rules;
+  LayerStack stack(map, rules);
+  const PointCloud& cloud = frame_points();
+  stack.begin_frame(0.0, 0.0);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(stack.insert(cloud));
+  }
+  const double point_layers = double(cloud.size()) * double(map.layers.size());
+  state.counters["points"] = double(cloud.size());
+  state.counters["ns_per_point_layer"] = benchmark::Counter(
+      point_layers, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ms_per_frame"] = benchmark::Counter(
+      1e-3, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void BM_Kalman1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}})); }
+void BM_Omg1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::omg, 0.01, 1000}})); }
+void BM_Bananas1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::bananas, 0.01, 1000}})); }
+void BM_Ccm4cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}})); }
+void BM_Ccm16cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.16, 64}})); }
+/// CADRE flight stack (SPEC 11): Kalman 1 cm + CCM 4, 16, 64 cm over 10 m x 10 m.
+void BM_FlightStack(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
+                          {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
+}
+/// Thesis CCM stack (Table 7.4) in both insertion modes.
+void BM_ThesisCcmAllLayers(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::ccm, 0.04, 42}, {RuleKind::ccm, 0.08, 32}, {RuleKind::ccm, 0.16, 28},
+                          {RuleKind::ccm, 0.32, 18}, {RuleKind::ccm, 0.64, 16}}));
+}
+void BM_ThesisCcmPooled(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::ccm, 0.04, 42}, {RuleKind::ccm, 0.08, 32}, {RuleKind::ccm, 0.16, 28},
+                          {RuleKind::ccm, 0.32, 18}, {RuleKind::ccm, 0.64, 16}},
+                         "finest_then_pool"));
+}
+
+BENCHMARK(BM_Kalman1cm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Omg1cm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Bananas1cm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ccm4cm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ccm16cm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlightStack)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ThesisCcmAllLayers)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ThesisCcmPooled)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace hazmap
+
+BENCHMARK_MAIN();
