@@ -13,7 +13,7 @@ namespace hazmap::cli {
 
 namespace {
 const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out DIR [--frames A:B]
-                  [--set KEY=VALUE]... [--quiet]
+                  [--set KEY=VALUE]... [--mosaic] [--quiet]
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
 Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem,
@@ -21,6 +21,7 @@ fused_hazard.{png,jdem}, OUT/summary.json and OUT/run.log.
   --frames A:B   frame indices [A, B) of the sorted frames (Python-like, negatives count
                  from the end)
   --set K=V      override a YAML key by dotted path, e.g. --set map.layers.0.size=64
+  --mosaic       also write OUT/mosaic/<frame>.png: every layer side by side (a film)
   --quiet        no per-frame progress on the terminal
 )";
 }  // namespace
@@ -30,7 +31,8 @@ int cmd_run(int argc, char** argv) {
     std::fputs(kRunUsage, stdout);
     return kExitOk;
   }
-  const Args args = parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet"});
+  const Args args =
+      parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet", "mosaic"});
   hazmap::RunOptions options;
   options.config_path = args.required("config");
   options.sequence_dir = args.required("sequence");
@@ -38,7 +40,9 @@ int cmd_run(int argc, char** argv) {
   options.frames = args.get("frames");
   // Check every input before the first line is logged or written: a bad input gives
   // exactly one line on stderr and leaves OUT untouched.
-  const hazmap::Config config = hazmap::load_config(options.config_path, args.sets);
+  std::vector<std::string> sets = args.sets;
+  if (args.on("mosaic")) sets.push_back("output.mosaic=true");
+  const hazmap::Config config = hazmap::load_config(options.config_path, sets);
   const hazmap::Sequence sequence = hazmap::load_sequence(options.sequence_dir);
   if (!options.frames.empty()) hazmap::select_frames(sequence.frames, options.frames);
   setup_logging(options.out_dir / "run.log", args.on("quiet"));

@@ -97,6 +97,7 @@ void parse_map(YamlMap m, MapConfig& map) {
       h.get("kernel", layer.hazard.kernel);
       h.get("roughness_threshold", layer.hazard.roughness_threshold_m);
       h.get("h_min", layer.hazard.h_min_m);
+      h.get("rho_max", layer.hazard.rho_max_m2);
       h.finish();
       l.finish();
       map.layers.push_back(layer);
@@ -144,6 +145,7 @@ void parse_output(YamlMap m, OutputConfig& o) {
   m.get("png", o.png);
   m.get("jdem", o.jdem);
   m.get("png_min_size", o.png_min_size);
+  m.get("mosaic", o.mosaic);
   m.finish();
 }
 
@@ -313,6 +315,7 @@ std::string to_yaml(const Config& c) {
         << YAML::Key << "kernel" << YAML::Value << l.hazard.kernel
         << YAML::Key << "roughness_threshold" << YAML::Value << l.hazard.roughness_threshold_m
         << YAML::Key << "h_min" << YAML::Value << l.hazard.h_min_m
+        << YAML::Key << "rho_max" << YAML::Value << l.hazard.rho_max_m2
         << YAML::EndMap << YAML::EndMap;
   }
   out << YAML::EndSeq << YAML::EndMap;
@@ -343,7 +346,8 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "every_n" << YAML::Value << c.output.every_n
       << YAML::Key << "png" << YAML::Value << c.output.png
       << YAML::Key << "jdem" << YAML::Value << c.output.jdem
-      << YAML::Key << "png_min_size" << YAML::Value << c.output.png_min_size << YAML::EndMap;
+      << YAML::Key << "png_min_size" << YAML::Value << c.output.png_min_size
+      << YAML::Key << "mosaic" << YAML::Value << c.output.mosaic << YAML::EndMap;
   out << YAML::EndMap;
   return out.c_str();
 }

@@ -139,6 +139,40 @@ cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, d
   return canvas;
 }
 
+cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std::string& frame_name,
+                      double robot_x_m, double robot_y_m) {
+  constexpr int kTile = 320, kTitle = 28, kGap = 8;
+  const auto& views = pipeline.layers();
+  const int columns = static_cast<int>(views.size()) + 1;
+  cv::Mat canvas(kTitle + 2 * (kTile + kTitle) + kGap, columns * (kTile + kGap) + kGap, CV_8UC3,
+                 cv::Scalar(30, 30, 30));
+  const cv::Scalar text(235, 235, 235);
+  auto place = [&](const cv::Mat& img, int col, int row, const std::string& title) {
+    // Height images carry a colour bar: keep their aspect, fit the tile width.
+    const double s = std::min(double(kTile) / img.cols, double(kTile) / img.rows);
+    cv::Mat scaled;
+    cv::resize(img, scaled, cv::Size(), s, s, cv::INTER_NEAREST);
+    const int x = kGap + col * (kTile + kGap), y = kTitle + row * (kTile + kTitle) + kTitle;
+    scaled.copyTo(canvas(cv::Rect(x, y, scaled.cols, scaled.rows)));
+    cv::putText(canvas, title, cv::Point(x, y - 8), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1,
+                cv::LINE_AA);
+  };
+  cv::putText(canvas, "frame " + frame_name, cv::Point(kGap, 20), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+              text, 1, cv::LINE_AA);
+  for (size_t i = 0; i < views.size(); ++i) {
+    char title[96];
+    std::snprintf(title, sizeof title, "L%zu  %g cm  %s", i, map.layers[i].resolution_m * 100,
+                  rule_name(map.layers[i].rule));
+    place(render_hazard(views[i].hazard, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 0,
+          title);
+    place(render_height(views[i].map.height, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 1,
+          std::string(title) + "  height");
+  }
+  place(render_hazard(pipeline.fused_hazard(), kTile, robot_x_m, robot_y_m), columns - 1, 0,
+        "fused hazard");
+  return canvas;
+}
+
 void write_frame_outputs(const std::filesystem::path& dir, const std::string& frame_name,
                          const Pipeline& pipeline, const Pose3d& T_W_B,
                          const OutputConfig& output) {
@@ -155,9 +189,11 @@ void write_frame_outputs(const std::filesystem::path& dir, const std::string& fr
       write_jdem(dir / (prefix + "height.jdem"), to_jdem(v.map.height, "height", "m", frame_name));
       write_jdem(dir / (prefix + "variance.jdem"),
                  to_jdem(v.map.variance, "variance", "m^2", frame_name));
-      write_jdem(dir / (prefix + "hazard.jdem"),
-                 to_jdem(v.hazard, "hazard", "class",
-                         frame_name));
+      write_jdem(dir / (prefix + "hazard.jdem"), to_jdem(v.hazard, "hazard", "class", frame_name));
+      if (v.map.slope_x.rows > 0) {  // CCM: h + slope_x dx + slope_y dy is the sub-cell surface
+        write_jdem(dir / (prefix + "slope_x.jdem"), to_jdem(v.map.slope_x, "slope_x", "m/m", frame_name));
+        write_jdem(dir / (prefix + "slope_y.jdem"), to_jdem(v.map.slope_y, "slope_y", "m/m", frame_name));
+      }
     }
   }
   if (output.png)

@@ -28,6 +28,22 @@ RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& h
   return p;
 }
 
+CcmHazardParams ccm_params(const LayerConfig& layer, const HazardConfig& hazard) {
+  const double h_min = layer.hazard.h_min_m > 0 ? layer.hazard.h_min_m : 0.75 * layer.resolution_m;
+  return ccm_hazard_params(layer.resolution_m, h_min, layer.hazard.rho_max_m2,
+                           hazard.max_slope_deg, hazard.wheelbase_m);
+}
+
+void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmHazardParams& ccm,
+                    RoughnessFilter& filter, LayerView& view) {
+  if (has_plane) {
+    classify_ccm(view.map, ccm, view.hazard);
+    return;
+  }
+  filter.compute(view.map.height, roughness.kernel, view.kernel_range, view.kernel_fill);
+  classify_roughness(view.map.height, view.kernel_range, view.kernel_fill, roughness, view.hazard);
+}
+
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(config),
       rectifier_(calibration, config.stereo.rectify_alpha),
@@ -37,8 +53,10 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       map_(config.map, config.rules, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       views_(config.map.layers.size()) {
-  for (const auto& layer : config.map.layers)
+  for (const auto& layer : config.map.layers) {
     roughness_params_.push_back(roughness_params(layer, config.hazard));
+    ccm_params_.push_back(ccm_params(layer, config.hazard));
+  }
   for (const auto& view : views_) hazard_ptrs_.push_back(&view.hazard);
 }
 
@@ -77,10 +95,8 @@ void Pipeline::analyse_hazards() {
   for (size_t i = 0; i < map_.size(); ++i) {
     LayerView& view = views_[i];
     map_.export_layer(i, view.map);
-    roughness_.compute(view.map.height, roughness_params_[i].kernel, view.kernel_range,
-                       view.kernel_fill);
-    classify_roughness(view.map.height, view.kernel_range, view.kernel_fill, roughness_params_[i],
-                       view.hazard);
+    classify_layer(map_.layer(i).has_plane(), roughness_params_[i], ccm_params_[i], roughness_,
+                   view);
   }
   fuse_hazards(hazard_ptrs_, fused_);
 }

@@ -148,6 +148,11 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
       t = Clock::now();
       const std::filesystem::path dir = options.out_dir / "frames" / frame.name;
       write_frame_outputs(dir, frame.name, pipeline, frame.pose.T_W_B, config.output);
+      if (config.output.mosaic) {
+        const Eigen::Vector3d p = frame.pose.T_W_B.translation();
+        write_png(options.out_dir / "mosaic" / (frame.name + ".png"),
+                  render_mosaic(pipeline, config.map, frame.name, p.x(), p.y()));
+      }
       for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
       rec.areas.push_back(hazard_areas(pipeline.fused_hazard()));
       rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();

@@ -105,3 +105,30 @@ TEST(Config, DumpReparsesToTheSameValues) {
 
 }  // namespace
 }  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+TEST(Config, EveryShippedConfigLoadsAndMatchesTheThesisTables) {
+  for (const char* name : {"default.yaml", "cadre_flight.yaml", "thesis_pwc.yaml", "thesis_ccm.yaml"})
+    EXPECT_NO_THROW(load_config(testing::source_dir() / "config" / name)) << name;
+  const Config flight = load_config(testing::source_dir() / "config/cadre_flight.yaml");
+  ASSERT_EQ(flight.map.layers.size(), 4u);
+  EXPECT_EQ(flight.map.layers[0].rule, RuleKind::kalman);
+  for (size_t i = 1; i < 4; ++i) EXPECT_EQ(flight.map.layers[i].rule, RuleKind::ccm);
+  for (const auto& l : flight.map.layers) EXPECT_GE(l.resolution_m * l.size, 10.0 - 1e-9);
+  const Config pwc = load_config(testing::source_dir() / "config/thesis_pwc.yaml");
+  const double thresholds[] = {0.025, 0.073, 0.30, 0.70};
+  const int kernels[] = {7, 5, 5, 3};
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(pwc.map.layers[i].rule, RuleKind::omg);
+    EXPECT_DOUBLE_EQ(pwc.map.layers[i].hazard.roughness_threshold_m, thresholds[i]);
+    EXPECT_EQ(pwc.map.layers[i].hazard.kernel, kernels[i]);
+  }
+  const Config ccm = load_config(testing::source_dir() / "config/thesis_ccm.yaml");
+  ASSERT_EQ(ccm.map.layers.size(), 5u);
+  for (const auto& l : ccm.map.layers) EXPECT_NEAR(l.hazard.h_min_m, 0.75 * l.resolution_m, 1e-12);
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,9 +1,9 @@
 // Acceptance check of the simulator's geometry (issue 6): render a short sequence, run
 // the project's own stereo front end on it (Rectifier -> DisparityMatcher ->
 // PointCloudBuilder, config/default.yaml), and the triangulated points within 2 m of the
-// rover lie on the ground truth: median |z - gt_height(x, y)| below 1 cm. Once with the
-// ideal rectified rig, once through distorted, misaligned cameras that the rectifier must
-// undo from calibration.yaml alone.
+// rover lie on the ground truth: median |z - gt_height(x, y)| below 1 cm (measured:
+// 0.5 mm). Once with the ideal rectified rig, once through distorted, misaligned cameras
+// that the rectifier must undo from calibration.yaml alone.
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +27,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kMaxMedianErrorM = 0.01;  // the issue's acceptance figure
+constexpr double kAcceptanceM = 0.01;      // the issue's acceptance figure
+// Measured 0.50 mm (ideal) and 0.51 mm (distorted): these guard against regressions
+// while leaving room for changes of the matcher's settings. A tilt (a forgotten R1) or a
+// wrong calibration moves the median bias by centimetres.
+constexpr double kMaxMedianErrorM = 0.002;
+constexpr double kMaxMedianBiasM = 0.001;
 constexpr double kRangeM = 2.0;            // points within 2 m (horizontal) of the body
 
 struct GeometryCheck {
@@ -95,12 +100,15 @@ TEST(GeometryCheck, StereoPointsLieOnTheGroundTruth) {
             << " mm\n";
   RecordProperty("median_abs_error_mm", std::to_string(check.median_abs_m * 1000));
   EXPECT_GT(check.points, 100000u);
+  EXPECT_LT(check.median_abs_m, kAcceptanceM);
   EXPECT_LT(check.median_abs_m, kMaxMedianErrorM);
+  EXPECT_LT(std::abs(check.median_m), kMaxMedianBiasM);
 }
 
 TEST(GeometryCheck, RectifierUndoesDistortionAndMisalignment) {
   testing::TempDir tmp;
   SimulationOptions options = short_sequence();
+  options.frames = 1;  // craters render slower; one pair is enough
   options.scenario = "craters";
   options.path.kind = "spline";
   options.rig_errors.distortion = RigErrors::typical_distortion();
@@ -112,7 +120,9 @@ TEST(GeometryCheck, RectifierUndoesDistortionAndMisalignment) {
             << " mm, median z - gt " << check.median_m * 1000 << " mm\n";
   RecordProperty("median_abs_error_mm", std::to_string(check.median_abs_m * 1000));
   EXPECT_GT(check.points, 100000u);
+  EXPECT_LT(check.median_abs_m, kAcceptanceM);
   EXPECT_LT(check.median_abs_m, kMaxMedianErrorM);
+  EXPECT_LT(std::abs(check.median_m), kMaxMedianBiasM);
 }
 
 }  // namespace

@@ -133,8 +133,8 @@ TEST(SimulateSequence, WritesCalibrationPosesAndGroundTruth) {
     point.p_W = Eigen::Vector2d(x, y);
     const Pose3d T_W_B = pose_on_ground(terrain, point, options.wheels);
     EXPECT_NEAR(z, T_W_B.translation().z(), 1e-11);
-    const Eigen::Quaterniond q(qw, qx, qy, qz);
-    EXPECT_TRUE(q.normalized().toRotationMatrix().isApprox(T_W_B.linear(), 1e-11));
+    const Eigen::Quaterniond q_W_B(qw, qx, qy, qz);
+    EXPECT_TRUE(q_W_B.normalized().toRotationMatrix().isApprox(T_W_B.linear(), 1e-11));
     EXPECT_TRUE(fs::exists(tmp.path() / "right" / (name + ".png")));
     const cv::Mat image = cv::imread((tmp.path() / "left" / (name + ".png")).string(),
                                      cv::IMREAD_UNCHANGED);
@@ -243,8 +243,9 @@ TEST(SimulateSequence, DriftedPosesAreOffByTheFractionOfDistanceTravelled) {
     const Pose3d& T_t = truth[k].second.T_W_B;
     // Error = fraction x arc length travelled (k steps), along the requested direction.
     const Eigen::Vector3d error = T_d.translation() - T_t.translation();
-    EXPECT_NEAR(error.norm(), 0.1 * 0.04 * k, kWrittenM) << k;
-    EXPECT_TRUE(error.isApprox(0.1 * 0.04 * k * direction, 1e-9) || k == 0) << k;
+    const double travelled_m = 0.04 * static_cast<double>(k);
+    EXPECT_NEAR(error.norm(), 0.1 * travelled_m, kWrittenM) << k;
+    EXPECT_NEAR((error - 0.1 * travelled_m * direction).norm(), 0.0, kWrittenM) << k;
     EXPECT_TRUE(T_d.linear().isApprox(T_t.linear(), 1e-14));
     // Noise columns: the drift added since the previous frame.
     ASSERT_TRUE(drifted[k].second.has_noise);

@@ -45,8 +45,6 @@ void run_insert(benchmark::State& state, const MapConfig& map) {
   state.counters["points"] = double(cloud.size());
   state.counters["ns_per_point_layer"] = benchmark::Counter(
       point_layers, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.counters["ms_per_frame"] = benchmark::Counter(
-      1e-3, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void BM_Kalman1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}})); }

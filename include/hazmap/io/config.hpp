@@ -53,6 +53,7 @@ struct LayerHazardConfig {
   int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
   double roughness_threshold_m = -1; ///< < 0: derived as (kernel - 1) r tan(max_slope)
   double h_min_m = -1;               ///< smallest obstacle height (CCM layers); < 0: 0.75 r
+  double rho_max_m2 = -1;            ///< CCM roughness threshold; < 0: h_min^2 / 16
 };
 
 struct LayerConfig {
@@ -102,6 +103,7 @@ struct OutputConfig {
   bool png = true;
   bool jdem = true;
   int png_min_size = 512; ///< PNGs are scaled up by whole pixels per cell to at least this
+  bool mosaic = false;    ///< also OUT/mosaic/<frame>.png: every layer side by side
 };
 
 struct Config {

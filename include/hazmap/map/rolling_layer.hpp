@@ -3,10 +3,11 @@
 // Cell, Sums and static known / clear / reference_z / point_weight / merge_frame /
 // begin_frame / to_moments / from_moments / height / variance).
 //
-// Per point: one multiply per axis (no division by the resolution), a floor, an
-// unsigned bounds test, a conditional subtract for the ring wrap (no modulo) and the
-// rule's Sums::add into a per-cell frame accumulator. Per frame: each touched cell is
-// merged once. All buffers are allocated in the constructor.
+// Per point: one multiply per axis (no division by the resolution), an integer floor,
+// an unsigned bounds test, a conditional subtract for the ring wrap (no modulo) and the
+// rule's Sums::add into registers while the points stay in one cell (scan lines cross
+// cells in runs), then into the cell's frame accumulator. Per frame: each touched cell
+// is merged once. All buffers are allocated in the constructor.
 
 #include <cmath>
 #include <limits>
@@ -53,12 +54,19 @@ class RollingLayer final : public Layer {
     const int wrap_x = wrap_index(ox, n), wrap_y = wrap_index(oy, n);
     const bool pooled = !covered_.empty();
     std::size_t used = 0;
+    // Consecutive points of a scan line mostly fall in the same cell: sum such a run in
+    // registers and add it to the cell's frame accumulator once.
+    int run_slot = -1;
+    Accumulator* run_acc = nullptr;
+    double run_z_ref = 0.0;
+    typename Rule::Sums run{};
     for (const Measurement& m : cloud) {
-      if (m.lateral_var > gate_var_) continue;
+      if constexpr (Rule::kHasPlane) {
+        if (m.lateral_var > gate_var_) continue;
+      }
       const double fx = m.p_W.x() * inv_resolution_, fy = m.p_W.y() * inv_resolution_;
-      const double flx = std::floor(fx), fly = std::floor(fy);
-      const CellIndex lx = static_cast<CellIndex>(flx) - ox;
-      const CellIndex ly = static_cast<CellIndex>(fly) - oy;
+      const CellIndex gx = fast_floor(fx), gy = fast_floor(fy);
+      const CellIndex lx = gx - ox, ly = gy - oy;
       if (static_cast<std::uint64_t>(lx) >= static_cast<std::uint64_t>(n) ||
           static_cast<std::uint64_t>(ly) >= static_cast<std::uint64_t>(n))
         continue;
@@ -66,18 +74,29 @@ class RollingLayer final : public Layer {
       if (sx >= n) sx -= n;
       if (sy >= n) sy -= n;
       const int slot = sy * n + sx;
-      if (pooled && covered_[slot]) continue;
-      Accumulator& a = accumulators_[slot];
-      if (a.stamp != stamp_) {
-        a.stamp = stamp_;
-        a.sums = typename Rule::Sums{};
-        a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m.p_W.z();
-        touched_.push_back(slot);
+      if (slot != run_slot) {
+        if (run_acc) run_acc->sums += run;
+        run_slot = slot;
+        run_acc = nullptr;
+        if (pooled && covered_[slot]) continue;  // the finer layer holds this cell's points
+        Accumulator& a = accumulators_[slot];
+        if (a.stamp != stamp_) {
+          a.stamp = stamp_;
+          a.sums = typename Rule::Sums{};
+          a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m.p_W.z();
+          touched_.push_back(slot);
+        }
+        run_acc = &a;
+        run_z_ref = a.z_ref;
+        run = typename Rule::Sums{};
+      } else if (!run_acc) {
+        continue;  // still in a covered cell
       }
-      a.sums.add(Rule::point_weight(m), fx - flx - 0.5, fy - fly - 0.5,
-                 double(m.p_W.z()) - double(a.z_ref));
+      run.add(Rule::point_weight(m), fx - static_cast<double>(gx) - 0.5,
+              fy - static_cast<double>(gy) - 0.5, double(m.p_W.z()) - run_z_ref);
       ++used;
     }
+    if (run_acc) run_acc->sums += run;
     const double r = grid_.resolution_m();
     for (const int slot : touched_) {
       const Accumulator& a = accumulators_[slot];

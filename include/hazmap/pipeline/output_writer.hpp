@@ -34,6 +34,11 @@ cv::Mat render_hazard(const DenseGrid& hazard, int min_size, double robot_x_m, d
 /// unknown cells grey.
 cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, double robot_y_m);
 
+/// One image tiling every layer (hazard on top, height below) and the fused hazard map,
+/// each tile titled with layer, resolution and rule, for flipping through a run.
+cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std::string& frame_name,
+                      double robot_x_m, double robot_y_m);
+
 /// Writes every output file of one frame into `frame_dir`.
 void write_frame_outputs(const std::filesystem::path& frame_dir, const std::string& frame_name,
                          const Pipeline& pipeline, const Pose3d& T_W_B,

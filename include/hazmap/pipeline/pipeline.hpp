@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/camera/rectifier.hpp"
+#include "hazmap/hazard/ccm_hazards.hpp"
 #include "hazmap/hazard/roughness_filter.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
@@ -44,6 +45,14 @@ struct LayerView {
 /// derived as (D - 1) r tan(max_slope) (SPEC 8.1).
 RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& hazard);
 
+/// CCM hazard parameters of a layer: h_min given or 0.75 r, rho_max given or h_min^2/16.
+CcmHazardParams ccm_params(const LayerConfig& layer, const HazardConfig& hazard);
+
+/// Classifies one layer's exported grids into view.hazard: CCM layers by their plane
+/// tests (SPEC 8.2), the others by the roughness kernel (SPEC 8.1).
+void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmHazardParams& ccm,
+                    RoughnessFilter& filter, LayerView& view);
+
 class Pipeline {
  public:
   Pipeline(const Config& config, const StereoCalibration& calibration);
@@ -73,6 +82,7 @@ class Pipeline {
   CcmWeighting weighting_;
   RoughnessFilter roughness_;
   std::vector<RoughnessParams> roughness_params_;
+  std::vector<CcmHazardParams> ccm_params_;
 
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
   PointCloud cloud_;

@@ -27,6 +27,11 @@ struct BananasRule {
       last_z = z;
       ++count;
     }
+    Sums& operator+=(const Sums& o) {
+      if (o.count > 0) last_z = o.last_z;
+      count += o.count;
+      return *this;
+    }
   };
 
   static bool known(const Cell& c) { return !std::isnan(c.height_m); }

@@ -43,11 +43,14 @@ struct KalmanRule {
   /// Information-form sums of one frame's points, z relative to the accumulator's reference.
   struct Sums {
     double w = 0, wz = 0;
-    std::uint32_t count = 0;
     void add(double wt, double /*x*/, double /*y*/, double z) {
       w += wt;
       wz += wt * z;
-      ++count;
+    }
+    Sums& operator+=(const Sums& o) {
+      w += o.w;
+      wz += o.wz;
+      return *this;
     }
   };
 

@@ -1,0 +1,198 @@
+// Hazard segmentation on analytic terrain (SPEC 8): points generated directly on a known
+// surface with sensor-level noise, fused by the real layer stack, classified by the
+// real hazard code.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "hazmap/map/layer_stack.hpp"
+#include "hazmap/pipeline/pipeline.hpp"
+
+namespace hazmap {
+namespace {
+
+using Surface = std::function<double(double, double)>;
+
+/// Layers as in the thesis tables: Kalman 1 cm (kernel 7) and CCM 4 ... 64 cm.
+Config analytic_config(const std::vector<std::pair<RuleKind, double>>& layers,
+                       int cells_per_side_m = 4) {
+  Config c;
+  for (auto [rule, r] : layers) {
+    LayerConfig l;
+    l.rule = rule;
+    l.resolution_m = r;
+    l.size = std::max(16, 2 * static_cast<int>(std::ceil(cells_per_side_m / r / 2)));
+    l.hazard.kernel = r < 0.02 ? 7 : r < 0.5 ? 5 : 3;
+    c.map.layers.push_back(l);
+  }
+  c.rules.ccm.max_weight = 1e6;
+  return c;
+}
+
+/// Samples the surface on a square grid of `spacing` over +-half, with Gaussian height
+/// noise sigma, and runs hazards on every layer. Returns the views.
+std::vector<LayerView> map_surface(const Config& config, const Surface& h, double half_m,
+                                   double spacing_m, double sigma_m, unsigned seed = 1) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_m);
+  std::uniform_real_distribution<double> jitter(-0.5, 0.5);
+  PointCloud cloud;
+  for (double y = -half_m; y < half_m; y += spacing_m)
+    for (double x = -half_m; x < half_m; x += spacing_m) {
+      const double px = x + jitter(rng) * spacing_m, py = y + jitter(rng) * spacing_m;
+      Measurement m{};
+      m.p_W = Eigen::Vector3f(float(px), float(py), float(h(px, py) + noise(rng)));
+      m.cov_xx = m.cov_yy = float(1e-6);
+      m.cov_zz = float(sigma_m * sigma_m);
+      cloud.push_back(m);
+    }
+  prepare_measurements(cloud, CcmWeighting::constant);
+  LayerStack stack(config.map, config.rules);
+  stack.begin_frame(0.001, 0.001);
+  stack.insert(cloud);
+  std::vector<LayerView> views(stack.size());
+  RoughnessFilter filter;
+  for (size_t i = 0; i < stack.size(); ++i) {
+    stack.export_layer(i, views[i].map);
+    classify_layer(stack.layer(i).has_plane(),
+                   roughness_params(config.map.layers[i], config.hazard),
+                   ccm_params(config.map.layers[i], config.hazard), filter, views[i]);
+  }
+  return views;
+}
+
+struct Counts {
+  int unknown = 0, traversable = 0, hazard = 0;
+};
+/// Class counts over cells whose centre lies within |x|, |y| < limit (the data's
+/// border is left out: there a kernel sees only half a slope).
+Counts count(const DenseGrid& hazard, double limit_m = 1.2) {
+  Counts c;
+  for (int row = 0; row < hazard.rows; ++row)
+    for (int col = 0; col < hazard.cols; ++col) {
+      if (std::abs(hazard.x_of_col(col)) >= limit_m || std::abs(hazard.y_of_row(row)) >= limit_m)
+        continue;
+      const auto k = static_cast<HazardClass>(int(hazard.at(row, col)));
+      (k == HazardClass::hazard        ? c.hazard
+       : k == HazardClass::traversable ? c.traversable
+                                       : c.unknown)++;
+    }
+  return c;
+}
+
+const std::vector<std::pair<RuleKind, double>> kAllLayers = {
+    {RuleKind::kalman, 0.01}, {RuleKind::ccm, 0.04}, {RuleKind::ccm, 0.08},
+    {RuleKind::ccm, 0.16},    {RuleKind::ccm, 0.32}, {RuleKind::ccm, 0.64}};
+
+TEST(AnalyticHazards, NoisyFlatPlaneHasNoHazardOnAnyLayer) {
+  const Config config = analytic_config(kAllLayers);
+  // 2 mm height noise: the stereo sensor model at 0.5 m with CADRE's full resolution.
+  const auto views = map_surface(
+      config, [](double, double) { return 0.05; }, 1.4, 0.003, 0.002);
+  for (size_t i = 0; i < views.size(); ++i) {
+    const Counts c = count(views[i].hazard);
+    EXPECT_EQ(c.hazard, 0) << "layer " << i;
+    EXPECT_GT(c.traversable, 0) << "layer " << i;
+  }
+}
+
+TEST(AnalyticHazards, RampsAbove20DegAreHazardsAndBelowAreNotOnEveryLayer) {
+  const Config config = analytic_config(kAllLayers);
+  for (const double deg : {15.0, 25.0}) {
+    const double t = std::tan(deg * M_PI / 180.0);
+    const auto views = map_surface(
+        config, [t](double x, double) { return t * x; }, 1.4, 0.003, 0.001);
+    for (size_t i = 0; i < views.size(); ++i) {
+      const Counts c = count(views[i].hazard);
+      if (deg < 20) {
+        EXPECT_EQ(c.hazard, 0) << deg << " deg, layer " << i;
+        EXPECT_GT(c.traversable, 0) << deg << " deg, layer " << i;
+      } else {
+        EXPECT_EQ(c.traversable, 0) << deg << " deg, layer " << i;
+        EXPECT_GT(c.hazard, 0) << deg << " deg, layer " << i;
+      }
+    }
+  }
+}
+
+TEST(AnalyticHazards, StepOfThreeQuartersOfTheCellIsAHazardAndThirtyPercentIsNot) {
+  const double r = 0.04;
+  const Config config = analytic_config({{RuleKind::ccm, r}});
+  for (const double p : {0.25, 0.5, 0.75}) {
+    for (const double height : {0.75 * r, 0.3 * r}) {
+      // Cell [0, r) x [0, r): the step covers its upper fraction p in x.
+      const double x0 = r * (1.0 - p);
+      const auto views = map_surface(
+          config, [&](double x, double) { return x >= x0 ? height : 0.0; }, 0.6, 0.002, 0.0005);
+      int row = 0, col = 0;
+      ASSERT_TRUE(views[0].hazard.cell_at(0.5 * r, 0.5 * r, &row, &col));
+      const auto cls = static_cast<HazardClass>(int(views[0].hazard.at(row, col)));
+      if (height > 0.5 * r)
+        EXPECT_EQ(cls, HazardClass::hazard) << "p = " << p << ", h = " << height;
+      else
+        EXPECT_EQ(cls, HazardClass::traversable) << "p = " << p << ", h = " << height;
+    }
+  }
+}
+
+/// Hemispherical rock of radius R at (xc, yc) on flat ground.
+Surface rock(double radius, double xc = 0.2, double yc = 0.1) {
+  return [=](double x, double y) {
+    const double d2 = (x - xc) * (x - xc) + (y - yc) * (y - yc);
+    return d2 < radius * radius ? std::sqrt(radius * radius - d2) : 0.0;
+  };
+}
+
+/// Distance from a cell centre of `grid` to the rock's rim (negative inside).
+double rim_distance(const DenseGrid& g, int row, int col, double radius, double xc = 0.2,
+                    double yc = 0.1) {
+  return std::hypot(g.x_of_col(col) - xc, g.y_of_row(row) - yc) - radius;
+}
+
+TEST(AnalyticHazards, ThreeCentimetreRockIsSeenByFineLayersOnlyAndOnlyNearIt) {
+  Config config = analytic_config(kAllLayers);
+  config.map.layers[0].hazard.roughness_threshold_m = 0.025;  // thesis Table 7.3, 1 cm layer
+  const double R = 0.03;
+  const auto views = map_surface(config, rock(R), 1.4, 0.002, 0.001);
+  // Kalman 1 cm: hazard cells exist, none farther than the kernel radius from the rim.
+  {
+    const DenseGrid& h = views[0].hazard;
+    int near = 0;
+    for (int row = 0; row < h.rows; ++row)
+      for (int col = 0; col < h.cols; ++col)
+        if (h.at(row, col) == float(HazardClass::hazard)) {
+          ++near;
+          EXPECT_LE(rim_distance(h, row, col, R), 3.5 * 0.01 + 0.005) << row << "," << col;
+        }
+    EXPECT_GT(near, 0);
+  }
+  // CCM 4 cm: hazard cells exist, none farther than one cell from the rim.
+  {
+    const DenseGrid& h = views[1].hazard;
+    int near = 0;
+    for (int row = 0; row < h.rows; ++row)
+      for (int col = 0; col < h.cols; ++col)
+        if (h.at(row, col) == float(HazardClass::hazard)) {
+          ++near;
+          // Cell centre within one cell (plus half a cell diagonal) of the rim.
+          EXPECT_LE(rim_distance(h, row, col, R), 0.04 + 0.04 * std::sqrt(0.5))
+              << row << "," << col;
+        }
+    EXPECT_GT(near, 0);
+  }
+  EXPECT_EQ(count(views[5].hazard).hazard, 0);  // 64 cm
+  EXPECT_GT(count(views[5].hazard).traversable, 0);
+}
+
+TEST(AnalyticHazards, TenCentimetreRockIsAHazardOnThe4And8CentimetreLayers) {
+  const Config config = analytic_config(kAllLayers);
+  const auto views = map_surface(config, rock(0.10), 1.4, 0.002, 0.001);
+  EXPECT_GT(count(views[1].hazard).hazard, 0);
+  EXPECT_GT(count(views[2].hazard).hazard, 0);
+}
+
+}  // namespace
+}  // namespace hazmap
