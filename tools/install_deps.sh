@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libopencv-dev libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libgtest-dev libbenchmark-dev
+  parallel chromium
 )
 
 missing=()

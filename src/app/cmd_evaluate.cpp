@@ -1,14 +1,90 @@
-// hazmap evaluate: score a run against ground truth.
+// hazmap evaluate: score a run against ground truth (SPEC 10), or summarise a sweep.
 
 #include <cstdio>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
 
 #include "cli.hpp"
+#include "hazmap/eval/metrics.hpp"
+#include "hazmap/eval/run_evaluation.hpp"
+#include "hazmap/eval/sweep_summary.hpp"
 
 namespace hazmap::cli {
 
-int cmd_evaluate(int /*argc*/, char** argv) {
-  std::fprintf(stderr, "hazmap: '%s' is not implemented yet\n", argv[1]);
-  return kExitUsage;
+namespace {
+const char* kEvaluateUsage =
+    R"(usage: hazmap evaluate --run DIR --sequence DIR [--out DIR] [--error-maps FRAMES] [--quiet]
+       hazmap evaluate --sweep DIR [--out DIR] [--quiet]
+
+Scores every written frame and layer of a run (the OUT of hazmap run) against the
+sequence's ground truth (gt_height.jdem, gt_hazard.jdem from hazmap simulate
+--ground-truth; SPEC 10): height RMS (CCM on the sub-cell plane), missed-obstacle and
+false-alarm area and fraction, unknown fraction, variance violations. When the sequence
+has poses_true.txt (simulate --drift), the ground truth is placed into each frame's map
+frame with T_map_W = T_W_B(drifted) T_W_B(true)^-1.
+Writes into --out (default RUN/eval): metrics.csv (frame x layer), summary.csv and
+metrics.json (per layer, pooled over frames), metrics_over_time.png, errors_<frame>.png
+and report.html (static; open it in a browser).
+  --error-maps F   frames that get an error map: NAME[,NAME...] or all (default: the last)
+
+--sweep DIR reads DIR/sweep.tsv (written by tools/sweep.sh) and every run's evaluation,
+and writes tables (CSV, tables.md), heat maps and charts and report.html into --out
+(default DIR/summary).
+)";
+
+std::vector<std::string> comma_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string pct(double v) {
+  char buf[32];
+  if (!(v == v)) return "-";
+  std::snprintf(buf, sizeof buf, "%.2f %%", 100.0 * v);
+  return buf;
+}
+
+}  // namespace
+
+int cmd_evaluate(int argc, char** argv) {
+  if (wants_help(argc, argv)) {
+    std::fputs(kEvaluateUsage, stdout);
+    return kExitOk;
+  }
+  const Args args =
+      parse_args(argc, argv, {"run", "sequence", "out", "error-maps", "sweep"}, {"quiet"});
+  setup_logging({}, args.on("quiet"));
+  if (args.has("sweep")) {
+    if (args.has("run") || args.has("sequence"))
+      throw UsageError("--sweep cannot be combined with --run or --sequence");
+    const std::filesystem::path sweep = args.get("sweep");
+    const std::filesystem::path out = args.get("out", (sweep / "summary").string());
+    const int runs = hazmap::eval::summarize_sweep(sweep, out);
+    spdlog::info("summarised {} evaluated runs into {} (report.html, tables.md)", runs, out.string());
+    return kExitOk;
+  }
+  hazmap::eval::EvaluationOptions options;
+  options.run_dir = args.required("run");
+  options.sequence_dir = args.required("sequence");
+  options.out_dir = args.get("out");
+  options.error_map_frames = comma_list(args.get("error-maps"));
+  const hazmap::eval::RunEvaluation ev = hazmap::eval::evaluate_run(options);
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const auto m = hazmap::eval::derive_metrics(ev.pooled[l]);
+    spdlog::info("{:>5} {:>5.0f} cm {:<5} h_min {:>4.1f} cm: RMS {:>7.2f} mm, unknown {:>8}, "
+                 "missed {:.4f} m2 ({} of obstacles), false alarm {:.4f} m2 ({} of known)",
+                 ev.layers[l].name, ev.layers[l].resolution_m * 100, ev.layers[l].rule,
+                 ev.layers[l].h_min_m * 100, m.height_rms_m * 1000, pct(m.unknown_fraction),
+                 m.missed_area_m2, pct(m.missed_of_hazard), m.false_alarm_area_m2,
+                 pct(m.false_alarm_fraction));
+  }
+  spdlog::info("wrote metrics.csv, summary.csv, metrics.json, PNGs and report.html into {}",
+               ev.out_dir.string());
+  return kExitOk;
 }
 
 }  // namespace hazmap::cli

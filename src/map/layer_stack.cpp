@@ -1,5 +1,6 @@
 #include "hazmap/map/layer_stack.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hazmap/core/error.hpp"
@@ -64,8 +65,15 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
 }
 
 std::size_t LayerStack::insert(const PointCloud& cloud) {
+  // Chunks small enough to stay in the L2 cache while every layer reads them.
+  constexpr std::size_t kChunk = 2048;
   std::size_t updates = 0;
-  for (auto& layer : layers_) updates += layer->insert(cloud);
+  for (auto& layer : layers_) layer->begin_insert();
+  for (std::size_t start = 0; start < cloud.size(); start += kChunk) {
+    const std::size_t count = std::min(kChunk, cloud.size() - start);
+    for (auto& layer : layers_) updates += layer->insert_points(cloud.data() + start, count);
+  }
+  for (auto& layer : layers_) layer->end_insert();
   if (pooling_) {
     // Fine to coarse, so that a layer's covered cells are rebuilt before it is pooled.
     for (std::size_t i = 1; i < layers_.size(); ++i) {

@@ -323,11 +323,6 @@ void path_bounds(const std::vector<PathPoint>& path, Eigen::Vector2d& lo, Eigen:
 
 }  // namespace
 
-bool RigErrors::any() const {
-  return std::any_of(distortion.begin(), distortion.end(), [](double d) { return d != 0.0; }) ||
-         !misalignment_rpy_deg.isZero(0.0) || !misalignment_m.isZero(0.0);
-}
-
 std::array<double, 5> RigErrors::typical_distortion() { return {-0.08, 0.012, 4e-4, -3e-4, 0.0}; }
 
 Eigen::Vector3d RigErrors::typical_misalignment_rpy_deg() { return {0.3, -0.2, 0.4}; }

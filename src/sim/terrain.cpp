@@ -145,13 +145,6 @@ double value_noise_3d(double x, double y, double z, std::uint64_t key) {
 // ---------------------------------------------------------------------------------------
 // Analytic ground features
 
-double SineWave::height_m(double x_m, double y_m) const {
-  if (amplitude_m == 0.0) return 0.0;
-  const double s_m =
-      direction_rad == 0.0 ? x_m : x_m * std::cos(direction_rad) + y_m * std::sin(direction_rad);
-  return amplitude_m * std::sin(2.0 * kPi * s_m / wavelength_m);
-}
-
 double SineWave::max_slope() const { return 2.0 * kPi * std::abs(amplitude_m) / wavelength_m; }
 
 double crater_relief_m(const Crater& crater, double x_m, double y_m) {
@@ -227,29 +220,6 @@ Terrain::Terrain(const GroundPlane& plane, const SineWave& wave, Heightfield det
   std::vector<double> radii_m;
   for (const Rock& rock : rocks_) radii_m.push_back(rock.radius_m);
   rock_grid_ = RockGrid(rock_centers_W_, radii_m);
-}
-
-double Terrain::detail_height_m(double x_m, double y_m) const {
-  if (detail_.heights_m.empty()) return 0.0;
-  const double gx = (x_m - detail_.origin_x_m) / detail_.resolution_m;
-  const double gy = (y_m - detail_.origin_y_m) / detail_.resolution_m;
-  // Clamp to the grid: outside, the edge values continue.
-  const double cx = std::clamp(gx, 0.0, static_cast<double>(detail_.nodes_x - 1));
-  const double cy = std::clamp(gy, 0.0, static_cast<double>(detail_.nodes_y - 1));
-  const int ix = std::min(static_cast<int>(cx), detail_.nodes_x - 2);
-  const int iy = std::min(static_cast<int>(cy), detail_.nodes_y - 2);
-  const double tx = cx - ix;
-  const double ty = cy - iy;
-  const std::size_t i = static_cast<std::size_t>(iy) * detail_.nodes_x + ix;
-  const float* h = detail_.heights_m.data();
-  const double h0 = lerp(h[i], h[i + 1], tx);
-  const double h1 = lerp(h[i + detail_.nodes_x], h[i + detail_.nodes_x + 1], tx);
-  return lerp(h0, h1, ty);
-}
-
-double Terrain::ground_height_m(double x_m, double y_m) const {
-  return plane_.offset_m + plane_.slope_x * x_m + plane_.slope_y * y_m +
-         wave_.height_m(x_m, y_m) + detail_height_m(x_m, y_m);
 }
 
 double Terrain::height_m(double x_m, double y_m) const {
@@ -417,20 +387,26 @@ void validate(const TerrainOptions& options) {
 Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double size_x_m,
                                      double size_y_m, double resolution_m,
                                      const FractalNoiseOptions& noise, std::uint64_t key) {
+  // Nodes on the global lattice (integer multiples of the resolution), so that two grids
+  // of different extent hold the same heights where they overlap.
+  const double k0x = std::floor((center_W.x() - 0.5 * size_x_m) / resolution_m + 1e-9);
+  const double k1x = std::ceil((center_W.x() + 0.5 * size_x_m) / resolution_m - 1e-9);
+  const double k0y = std::floor((center_W.y() - 0.5 * size_y_m) / resolution_m + 1e-9);
+  const double k1y = std::ceil((center_W.y() + 0.5 * size_y_m) / resolution_m - 1e-9);
   Heightfield field;
   field.resolution_m = resolution_m;
-  field.nodes_x = static_cast<int>(std::ceil(size_x_m / resolution_m)) + 1;
-  field.nodes_y = static_cast<int>(std::ceil(size_y_m / resolution_m)) + 1;
-  field.origin_x_m = center_W.x() - 0.5 * (field.nodes_x - 1) * resolution_m;
-  field.origin_y_m = center_W.y() - 0.5 * (field.nodes_y - 1) * resolution_m;
+  field.nodes_x = static_cast<int>(k1x - k0x) + 1;
+  field.nodes_y = static_cast<int>(k1y - k0y) + 1;
+  field.origin_x_m = k0x * resolution_m;
+  field.origin_y_m = k0y * resolution_m;
   field.heights_m.assign(static_cast<std::size_t>(field.nodes_x) * field.nodes_y, 0.0f);
 
   std::vector<std::uint64_t> octave_keys;
   for (int k = 0; k < noise.octaves; ++k) octave_keys.push_back(hash_combine(key, k));
   for (int iy = 0; iy < field.nodes_y; ++iy) {
-    const double y_m = field.origin_y_m + iy * resolution_m;
+    const double y_m = (k0y + iy) * resolution_m;
     for (int ix = 0; ix < field.nodes_x; ++ix) {
-      const double x_m = field.origin_x_m + ix * resolution_m;
+      const double x_m = (k0x + ix) * resolution_m;
       double z = 0.0;
       double amplitude = noise.amplitude_m;
       double wavelength = noise.wavelength_m;
@@ -458,10 +434,13 @@ void add_crater(const Crater& crater, Heightfield& field) {
   const int iy1 = std::min(field.nodes_y - 1,
                            static_cast<int>(std::ceil((crater.y_m + reach_m - field.origin_y_m) /
                                                       field.resolution_m)));
+  // Node positions exactly as make_fractal_heightfield computes them.
+  const double k0x = std::round(field.origin_x_m / field.resolution_m);
+  const double k0y = std::round(field.origin_y_m / field.resolution_m);
   for (int iy = iy0; iy <= iy1; ++iy) {
-    const double y_m = field.origin_y_m + iy * field.resolution_m;
+    const double y_m = (k0y + iy) * field.resolution_m;
     for (int ix = ix0; ix <= ix1; ++ix) {
-      const double x_m = field.origin_x_m + ix * field.resolution_m;
+      const double x_m = (k0x + ix) * field.resolution_m;
       float& h = field.heights_m[static_cast<std::size_t>(iy) * field.nodes_x + ix];
       h = static_cast<float>(h + crater_relief_m(crater, x_m, y_m));
     }

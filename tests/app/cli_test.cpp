@@ -56,7 +56,6 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(run_cli("fly").exit_code, 2);
   EXPECT_EQ(run_cli("run --config x.yaml").exit_code, 2);  // missing --sequence/--out
   EXPECT_EQ(run_cli("run --bogus 1").exit_code, 2);
-  EXPECT_EQ(run_cli("evaluate --run a --sequence b").exit_code, 2);  // not implemented yet
 }
 
 TEST(Cli, RunWritesEveryOutputOfEveryFrame) {

@@ -78,8 +78,10 @@ TEST(Pipeline, RockIsAHazardAndOnlyNearTheRock) {
       if (view.hazard.at(row, col) != float(HazardClass::hazard)) continue;
       const double d = std::hypot(view.hazard.x_of_col(col) - rock.x_m,
                                   view.hazard.y_of_row(row) - rock.y_m);
-      // Within the rock plus the kernel radius (3.5 cells) plus one cell.
-      (d <= rock.radius_m + 0.045 ? near : far)++;
+      // Analytic points give hazards within the kernel radius of the rim
+      // (tests/hazard/analytic_hazards_test.cpp); real matching smears the rock's edge
+      // and the occlusion behind it: allow one kernel diameter (7 cm) plus a cell.
+      (d <= rock.radius_m + 0.08 ? near : far)++;
     }
   EXPECT_GT(near, 20);
   EXPECT_EQ(far, 0);

@@ -121,6 +121,38 @@ TEST(Terrain, SameSeedSameTerrainOtherSeedOtherTerrain) {
   EXPECT_NE(a.detail().heights_m, c.detail().heights_m);
 }
 
+TEST(Terrain, GridsOfDifferentExtentHoldTheSameWorld) {
+  // A longer sequence grows the detail grid; where the grids overlap the ground (noise,
+  // craters) and the rocks are the same, so a seed names one world. Node heights are
+  // identical; between nodes the interpolation weights differ in the last bit.
+  TerrainOptions small = rocks_options(4);
+  small.scenario = "craters";
+  small.scatter_rocks = true;
+  TerrainOptions large = small;
+  large.center_W = Eigen::Vector2d(2.337, -0.41);
+  large.size_x_m = 7.3;
+  large.size_y_m = 5.1;
+  const Terrain a = make_terrain(small);
+  const Terrain b = make_terrain(large);
+  EXPECT_NE(a.detail().nodes_x, b.detail().nodes_x);
+  std::mt19937_64 rng(2);
+  for (int i = 0; i < 5000; ++i) {
+    const double x_m = -0.9 + 3.8 * unit_double(rng());
+    const double y_m = -1.4 + 2.8 * unit_double(rng());
+    ASSERT_NEAR(a.height_m(x_m, y_m), b.height_m(x_m, y_m), 1e-15) << x_m << " " << y_m;
+  }
+  const Heightfield& ga = a.detail();
+  const Heightfield& gb = b.detail();
+  for (int iy = 10; iy < ga.nodes_y - 10; iy += 7) {
+    for (int ix = 10; ix < ga.nodes_x - 10; ix += 7) {
+      const long jx = std::lround((ga.origin_x_m - gb.origin_x_m) / gb.resolution_m) + ix;
+      const long jy = std::lround((ga.origin_y_m - gb.origin_y_m) / gb.resolution_m) + iy;
+      ASSERT_EQ(ga.heights_m[static_cast<std::size_t>(iy) * ga.nodes_x + ix],
+                gb.heights_m[static_cast<std::size_t>(jy) * gb.nodes_x + jx]);
+    }
+  }
+}
+
 TEST(Terrain, RockFieldStaysInItsBoxWithoutOverlap) {
   const RockFieldOptions field;
   for (std::uint64_t seed = 1; seed <= 50; ++seed) {

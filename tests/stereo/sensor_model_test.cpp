@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "hazmap/core/error.hpp"
+#include "hazmap/core/types.hpp"
+
 namespace hazmap {
 namespace {
 
@@ -55,6 +58,49 @@ TEST(SensorModel, RayCovarianceMatchesMonteCarloPropagation) {
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(mc(r, c), analytic(r, c), 0.05 * std::sqrt(analytic(r, r) * analytic(c, c)))
           << r << "," << c;
+}
+
+}  // namespace
+}  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+Measurement with_covariance(const Eigen::Matrix3d& cov) {
+  Measurement m{};
+  m.cov_xx = static_cast<float>(cov(0, 0));
+  m.cov_xy = static_cast<float>(cov(0, 1));
+  m.cov_xz = static_cast<float>(cov(0, 2));
+  m.cov_yy = static_cast<float>(cov(1, 1));
+  m.cov_yz = static_cast<float>(cov(1, 2));
+  m.cov_zz = static_cast<float>(cov(2, 2));
+  return m;
+}
+
+TEST(CcmWeight, ConstantTraceAndDeterminantOfTheWorldCovariance) {
+  // A near CADRE point (ray model, ~0.2 m away) rotated into a world frame: a full,
+  // tiny covariance whose determinant (~1e-23 m^6) underflows in float arithmetic.
+  const Eigen::Matrix3d R = rotation_from_rpy(0.3, -0.5, 1.1);
+  const Eigen::Matrix3d cov = R * covariance_ray(kCadre, 1200, 1100, 160, 0.5, 0.25) * R.transpose();
+  const Measurement m = with_covariance(cov);
+  // Reference from the float-stored entries, as the map sees them.
+  Eigen::Matrix3d stored;
+  stored << m.cov_xx, m.cov_xy, m.cov_xz, m.cov_xy, m.cov_yy, m.cov_yz, m.cov_xz, m.cov_yz, m.cov_zz;
+  EXPECT_EQ(ccm_weight(CcmWeighting::constant, m), 1.0f);
+  EXPECT_NEAR(ccm_weight(CcmWeighting::trace, m), 1.0 / stored.trace(), 1e-6 / stored.trace());
+  const double det = stored.determinant();
+  ASSERT_GT(det, 0.0);
+  ASSERT_LT(det, 1e-20);
+  EXPECT_NEAR(ccm_weight(CcmWeighting::det, m), 1.0 / det, 1e-5 / det);
+}
+
+TEST(CcmWeight, SingularCovarianceIsAnError) {
+  Measurement m = with_covariance(Eigen::Vector3d(0.0, 0.0, 1e-6).asDiagonal());
+  EXPECT_EQ(ccm_weight(CcmWeighting::constant, m), 1.0f);
+  EXPECT_FLOAT_EQ(ccm_weight(CcmWeighting::trace, m), 1e6f);
+  EXPECT_THROW(ccm_weight(CcmWeighting::det, m), Error);
+  m = with_covariance(Eigen::Matrix3d::Zero());
+  EXPECT_THROW(ccm_weight(CcmWeighting::trace, m), Error);
 }
 
 }  // namespace

@@ -42,9 +42,22 @@ class Layer {
   /// per-frame update (Kalman inflation, OMG decay) to known cells.
   virtual void begin_frame(double robot_x_m, double robot_y_m, std::uint32_t frame) = 0;
 
-  /// Inserts every point whose cell is inside the window (and not covered by the finer
-  /// layer, in pooling mode) and merges the frame into the cells. Returns points used.
-  virtual std::size_t insert(const PointCloud& cloud) = 0;
+  /// A frame's insertion: begin_insert, insert_points over consecutive chunks of the
+  /// frame's points (so a chunk stays in cache while every layer reads it), end_insert
+  /// (merges the frame into the touched cells). insert_points takes every point whose
+  /// cell is inside the window (and not covered by the finer layer, in pooling mode) and
+  /// returns how many it used.
+  virtual void begin_insert() = 0;
+  virtual std::size_t insert_points(const Measurement* points, std::size_t count) = 0;
+  virtual void end_insert() = 0;
+
+  /// The whole frame at once.
+  std::size_t insert(const PointCloud& cloud) {
+    begin_insert();
+    const std::size_t used = insert_points(cloud.data(), cloud.size());
+    end_insert();
+    return used;
+  }
 
   /// Pooling (SPEC 5, 6.5): mark which cells are fully covered by the finer layer's
   /// window; a cell that becomes covered captures its current value as its prior.

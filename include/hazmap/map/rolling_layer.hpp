@@ -31,7 +31,9 @@ class RollingLayer final : public Layer {
                                  : std::numeric_limits<float>::infinity()),
         cells_(cell_count()),
         accumulators_(cell_count()),
-        updated_frame_(cell_count(), 0) {
+        updated_frame_(cell_count(), 0),
+        slot_x_(static_cast<std::size_t>(size)),
+        slot_y_(static_cast<std::size_t>(size)) {
     touched_.reserve(cell_count());
     if (pooled) {
       prior_.resize(cell_count());
@@ -46,12 +48,24 @@ class RollingLayer final : public Layer {
     for (auto& cell : cells_) Rule::begin_frame(config_, cell);
   }
 
-  std::size_t insert(const PointCloud& cloud) override {
+  void begin_insert() override {
     ++stamp_;
     touched_.clear();
+    // Window-relative index -> storage slot, per axis (the window moves by whole cells).
     const int n = grid_.size();
-    const CellIndex ox = grid_.origin_x(), oy = grid_.origin_y();
-    const int wrap_x = wrap_index(ox, n), wrap_y = wrap_index(oy, n);
+    for (int i = 0; i < n; ++i) {
+      slot_x_[i] = wrap_index(grid_.origin_x() + i, n);
+      slot_y_[i] = wrap_index(grid_.origin_y() + i, n) * n;
+    }
+  }
+
+  std::size_t insert_points(const Measurement* points, std::size_t count) override {
+    const auto n = static_cast<std::uint64_t>(grid_.size());
+    // Coordinates relative to the window's first cell, in cells: the window is [0, n).
+    const double x0 = static_cast<double>(grid_.origin_x()) * grid_.resolution_m();
+    const double y0 = static_cast<double>(grid_.origin_y()) * grid_.resolution_m();
+    const int* slot_x = slot_x_.data();
+    const int* slot_y = slot_y_.data();
     const bool pooled = !covered_.empty();
     std::size_t used = 0;
     // Consecutive points of a scan line mostly fall in the same cell: sum such a run in
@@ -60,20 +74,18 @@ class RollingLayer final : public Layer {
     Accumulator* run_acc = nullptr;
     double run_z_ref = 0.0;
     typename Rule::Sums run{};
-    for (const Measurement& m : cloud) {
+    for (const Measurement* m = points; m != points + count; ++m) {
       if constexpr (Rule::kHasPlane) {
-        if (m.lateral_var > gate_var_) continue;
+        if (m->lateral_var > gate_var_) continue;
       }
-      const double fx = m.p_W.x() * inv_resolution_, fy = m.p_W.y() * inv_resolution_;
-      const CellIndex gx = fast_floor(fx), gy = fast_floor(fy);
-      const CellIndex lx = gx - ox, ly = gy - oy;
-      if (static_cast<std::uint64_t>(lx) >= static_cast<std::uint64_t>(n) ||
-          static_cast<std::uint64_t>(ly) >= static_cast<std::uint64_t>(n))
-        continue;
-      int sx = static_cast<int>(lx) + wrap_x, sy = static_cast<int>(ly) + wrap_y;
-      if (sx >= n) sx -= n;
-      if (sy >= n) sy -= n;
-      const int slot = sy * n + sx;
+      const double fx = (m->p_W.x() - x0) * inv_resolution_;
+      const double fy = (m->p_W.y() - y0) * inv_resolution_;
+      // floor by truncation of fx + 1 (exact for fx > -1; farther left is out anyway),
+      // then one unsigned compare per axis for the window bounds.
+      const std::int64_t lx = static_cast<std::int64_t>(fx + 1.0) - 1;
+      const std::int64_t ly = static_cast<std::int64_t>(fy + 1.0) - 1;
+      if (static_cast<std::uint64_t>(lx) >= n || static_cast<std::uint64_t>(ly) >= n) continue;
+      const int slot = slot_y[ly] + slot_x[lx];  // ring wrap by table: no modulo, no branch
       if (slot != run_slot) {
         if (run_acc) run_acc->sums += run;
         run_slot = slot;
@@ -83,7 +95,7 @@ class RollingLayer final : public Layer {
         if (a.stamp != stamp_) {
           a.stamp = stamp_;
           a.sums = typename Rule::Sums{};
-          a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m.p_W.z();
+          a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m->p_W.z();
           touched_.push_back(slot);
         }
         run_acc = &a;
@@ -92,18 +104,22 @@ class RollingLayer final : public Layer {
       } else if (!run_acc) {
         continue;  // still in a covered cell
       }
-      run.add(Rule::point_weight(m), fx - static_cast<double>(gx) - 0.5,
-              fy - static_cast<double>(gy) - 0.5, double(m.p_W.z()) - run_z_ref);
+      run.add(Rule::point_weight(*m), fx - static_cast<double>(lx) - 0.5,
+              fy - static_cast<double>(ly) - 0.5,
+              double(m->p_W.z()) - run_z_ref);
       ++used;
     }
     if (run_acc) run_acc->sums += run;
+    return used;
+  }
+
+  void end_insert() override {
     const double r = grid_.resolution_m();
     for (const int slot : touched_) {
       const Accumulator& a = accumulators_[slot];
       Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r);
       updated_frame_[slot] = frame_;
     }
-    return used;
   }
 
   void update_coverage(const RollingGrid& finer) override {
@@ -295,6 +311,7 @@ class RollingLayer final : public Layer {
   std::vector<Accumulator> accumulators_;
   std::vector<std::uint32_t> updated_frame_;
   std::vector<int> touched_;
+  std::vector<int> slot_x_, slot_y_;  ///< window-relative index -> slot column / row offset
   std::vector<typename Rule::Cell> prior_;
   std::vector<unsigned char> covered_;
 };

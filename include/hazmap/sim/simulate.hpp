@@ -36,7 +36,6 @@ struct RigErrors {
   /// left camera frame, metres.
   Eigen::Vector3d misalignment_m = Eigen::Vector3d::Zero();
 
-  bool any() const;
   /// Barrel distortion of a wide-angle lens (k1 -0.08, k2 0.012, p1 4e-4, p2 -3e-4,
   /// k3 0): points at the left and right edges of the 90 deg CADRE view move 9 % of their
   /// radius inwards (71 px at full size); monotonic well beyond the image corners.

@@ -12,6 +12,8 @@
 // (std::mt19937_64 is fully specified; we convert its output to numbers ourselves
 // because the std distributions are implementation-defined).
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -85,7 +87,13 @@ struct SineWave {
   double wavelength_m = 1.0;
   double direction_rad = 0.0;  ///< of the wave vector, from W +x towards +y
 
-  double height_m(double x_m, double y_m) const;
+  double height_m(double x_m, double y_m) const {
+    if (amplitude_m == 0.0) return 0.0;
+    const double s_m = direction_rad == 0.0
+                           ? x_m
+                           : x_m * std::cos(direction_rad) + y_m * std::sin(direction_rad);
+    return amplitude_m * std::sin(2.0 * 3.14159265358979323846 * s_m / wavelength_m);
+  }
   /// Steepest slope dz/ds = 2 pi amplitude / wavelength (a tangent, not an angle).
   double max_slope() const;
 };
@@ -125,7 +133,11 @@ class Terrain {
       : Terrain(plane, SineWave(), std::move(detail), std::move(rocks)) {}
 
   /// Ground height (rocks excluded) at W position (x, y), metres. Defined everywhere.
-  double ground_height_m(double x_m, double y_m) const;
+  /// Inline: the ray marcher calls it tens of times per ray.
+  double ground_height_m(double x_m, double y_m) const {
+    return plane_.offset_m + plane_.slope_x * x_m + plane_.slope_y * y_m +
+           wave_.height_m(x_m, y_m) + detail_height_m(x_m, y_m);
+  }
 
   /// Surface height at (x, y): the ground, or the top of a rock cap where that is higher.
   /// Exact (analytic rock caps on the bilinear ground).
@@ -167,7 +179,24 @@ class Terrain {
                                int rows, int cols) const;
 
  private:
-  double detail_height_m(double x_m, double y_m) const;
+  /// Bilinear interpolation of the detail grid, clamped to its edge values.
+  double detail_height_m(double x_m, double y_m) const {
+    if (detail_.heights_m.empty()) return 0.0;
+    const double gx = (x_m - detail_.origin_x_m) / detail_.resolution_m;
+    const double gy = (y_m - detail_.origin_y_m) / detail_.resolution_m;
+    const double cx = std::clamp(gx, 0.0, static_cast<double>(detail_.nodes_x - 1));
+    const double cy = std::clamp(gy, 0.0, static_cast<double>(detail_.nodes_y - 1));
+    const int ix = std::min(static_cast<int>(cx), detail_.nodes_x - 2);
+    const int iy = std::min(static_cast<int>(cy), detail_.nodes_y - 2);
+    const double tx = cx - ix;
+    const double ty = cy - iy;
+    const std::size_t i = static_cast<std::size_t>(iy) * detail_.nodes_x + ix;
+    const float* h = detail_.heights_m.data();
+    const double h0 = h[i] + (h[i + 1] - static_cast<double>(h[i])) * tx;
+    const double h1 = h[i + detail_.nodes_x] +
+                      (h[i + detail_.nodes_x + 1] - static_cast<double>(h[i + detail_.nodes_x])) * tx;
+    return h0 + (h1 - h0) * ty;
+  }
 
   GroundPlane plane_;
   SineWave wave_;
@@ -283,8 +312,10 @@ const std::vector<std::string>& terrain_scenarios();
 /// scenario, non-positive sizes or resolution, |ramp_deg| >= 80, negative noise, ...).
 void validate(const TerrainOptions& options);
 
-/// Fills a heightfield covering size_x_m x size_y_m around center_W with fractal value
-/// noise. Deterministic in (geometry, noise options, key).
+/// Fills a heightfield covering at least size_x_m x size_y_m around center_W with fractal
+/// value noise. Its nodes lie on the global lattice (integer multiples of resolution_m),
+/// so the height at a node depends only on its position, the noise options and the key:
+/// grids of different extent agree where they overlap.
 Heightfield make_fractal_heightfield(const Eigen::Vector2d& center_W, double size_x_m,
                                      double size_y_m, double resolution_m,
                                      const FractalNoiseOptions& noise, std::uint64_t key);

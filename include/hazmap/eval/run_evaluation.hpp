@@ -1,0 +1,90 @@
+#pragma once
+// `hazmap evaluate`: scores every written frame and layer of a run (OUT of `hazmap run`)
+// against the ground truth of its sequence (SPEC 10), and writes
+//   metrics.csv            one row per frame and layer (the fused map is layer "fused")
+//   summary.csv            one row per layer, pooled over frames (what sweeps read)
+//   metrics.json           the same per-layer summary with the settings behind it
+//   metrics_over_time.png  each metric against the frame, one line per layer
+//   errors_<frame>.png     per layer |h - h_gt| and missed / false-alarm pixels
+//   report.html            a static page with the table, the plots and a frame viewer
+//
+// Inputs. RUN/summary.json ("settings_yaml": the configuration used, for the layers'
+// resolution, rule and hazard parameters), RUN/frames/<frame>/L<i>_{height,variance,
+// hazard}.jdem (+ L<i>_slope_{x,y}.jdem for CCM) and fused_hazard.jdem; SEQ/gt_height.jdem,
+// SEQ/gt_hazard.jdem, SEQ/poses.txt and, if the run drove on drifted poses,
+// SEQ/poses_true.txt.
+//
+// True pose. The map of frame k was built in the frame of the poses the run was given
+// (poses.txt, possibly drifted). The ground truth lives in the true world W. The map's
+// frame relative to W at frame k is taken as the transform that carries the true body
+// pose onto the drifted one,
+//     T_map_W = T_W_B(drifted, k) * T_W_B(true, k)^-1,
+// i.e. the map is compared with the ground truth as the rover saw it at frame k: an
+// obstacle seen where the rover believes it is counts as found. (Older map content was
+// placed with older, smaller drift; that residual misplacement is what a drift test
+// measures.) Without poses_true.txt, T_map_W = identity.
+//
+// h_min per layer (what counts as an obstacle the layer must find): the layer's
+// hazard.h_min when set; else for CCM layers 0.75 r (SPEC 8.2, the pipeline's default);
+// for piecewise-constant layers the roughness threshold (given, or (D - 1) r tan(max_slope)
+// as the pipeline derives it): a step at least that high inside the kernel is what the
+// roughness test is built to flag. The fused map uses the smallest h_min of its layers.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hazmap/core/types.hpp"
+#include "hazmap/eval/metrics.hpp"
+#include "hazmap/io/config.hpp"
+
+namespace hazmap::eval {
+
+struct EvaluationOptions {
+  std::filesystem::path run_dir;
+  std::filesystem::path sequence_dir;
+  std::filesystem::path out_dir;  ///< empty: RUN/eval
+  /// Frames that get an errors_<frame>.png: names, or "all"; empty: the last frame.
+  std::vector<std::string> error_map_frames;
+  bool write_report = true;  ///< report.html
+};
+
+/// What is scored as a layer: "L<i>" or "fused".
+struct EvaluatedLayer {
+  std::string name;
+  int index = -1;            ///< layer index, -1 for the fused map
+  double resolution_m = 0.0;
+  std::string rule;          ///< "ccm", "omg", ..., "fused"
+  double h_min_m = 0.0;
+  std::string h_min_source;  ///< "hazard.h_min", "0.75 r", "roughness threshold", ...
+};
+
+struct RunEvaluation {
+  std::vector<EvaluatedLayer> layers;
+  std::vector<std::string> frames;              ///< written frames, sorted
+  std::vector<std::vector<MetricSums>> sums;    ///< [frame][layer]
+  std::vector<MetricSums> pooled;               ///< [layer], over all frames
+  bool used_true_poses = false;                 ///< poses_true.txt was found
+  std::filesystem::path out_dir;
+};
+
+/// h_min of a layer as documented above; `source` says where it came from.
+double layer_h_min(const LayerConfig& layer, const HazardConfig& hazard, std::string* source);
+
+/// The configuration a run used, from RUN/summary.json "settings_yaml". Throws Error
+/// naming the file when it is missing or has no settings.
+Config read_run_config(const std::filesystem::path& run_dir);
+
+/// Reads a JDEM grid into a DenseGrid; throws Error naming the file if it is rotated
+/// (yaw != 0) or unreadable.
+DenseGrid read_dense_grid(const std::filesystem::path& path);
+
+/// SEQ/gt_height.jdem and SEQ/gt_hazard.jdem. Throws Error naming a missing file (with a
+/// hint to simulate with --ground-truth).
+GroundTruth read_ground_truth(const std::filesystem::path& sequence_dir);
+
+/// Scores the run and writes every output listed above into options.out_dir (created;
+/// files written atomically). Logs progress through spdlog. Throws Error on bad input.
+RunEvaluation evaluate_run(const EvaluationOptions& options);
+
+}  // namespace hazmap::eval

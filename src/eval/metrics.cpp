@@ -1,0 +1,185 @@
+#include "hazmap/eval/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hazmap/core/error.hpp"
+
+namespace hazmap::eval {
+
+MetricSums& MetricSums::operator+=(const MetricSums& o) {
+  extent_px += o.extent_px;
+  known_px += o.known_px;
+  height_px += o.height_px;
+  sq_error_sum_m2 += o.sq_error_sum_m2;
+  gt_hazard_px += o.gt_hazard_px;
+  gt_hazard_known_px += o.gt_hazard_known_px;
+  missed_px += o.missed_px;
+  false_alarm_px += o.false_alarm_px;
+  variance_px += o.variance_px;
+  violation_px += o.violation_px;
+  if (pixel_area_m2 == 0.0) pixel_area_m2 = o.pixel_area_m2;
+  return *this;
+}
+
+LayerMetrics derive_metrics(const MetricSums& s) {
+  LayerMetrics m;
+  const double a = s.pixel_area_m2;
+  const auto ratio = [](std::size_t num, std::size_t den) {
+    return den == 0 ? kNaN : static_cast<double>(num) / static_cast<double>(den);
+  };
+  m.extent_area_m2 = static_cast<double>(s.extent_px) * a;
+  m.known_area_m2 = static_cast<double>(s.known_px) * a;
+  m.unknown_fraction = s.extent_px == 0 ? kNaN : 1.0 - ratio(s.known_px, s.extent_px);
+  m.height_samples = s.height_px;
+  m.height_rms_m =
+      s.height_px == 0 ? kNaN : std::sqrt(s.sq_error_sum_m2 / static_cast<double>(s.height_px));
+  m.gt_hazard_area_m2 = static_cast<double>(s.gt_hazard_px) * a;
+  m.gt_hazard_known_area_m2 = static_cast<double>(s.gt_hazard_known_px) * a;
+  m.missed_area_m2 = static_cast<double>(s.missed_px) * a;
+  m.missed_fraction = ratio(s.missed_px, s.known_px);
+  m.missed_of_hazard = ratio(s.missed_px, s.gt_hazard_known_px);
+  m.false_alarm_area_m2 = static_cast<double>(s.false_alarm_px) * a;
+  m.false_alarm_fraction = ratio(s.false_alarm_px, s.known_px);
+  m.variance_violation = ratio(s.violation_px, s.variance_px);
+  return m;
+}
+
+double layer_height_at(const LayerMaps& layer, double x_m, double y_m) {
+  if (!layer.has_height()) return kNaN;
+  int row = 0, col = 0;
+  if (!layer.height.cell_at(x_m, y_m, &row, &col)) return kNaN;
+  const double h = layer.height.at(row, col);
+  if (!layer.has_plane() || !std::isfinite(h)) return h;
+  const double sx = layer.slope_x.at(row, col), sy = layer.slope_y.at(row, col);
+  if (!std::isfinite(sx) || !std::isfinite(sy)) return h;
+  return h + sx * (x_m - layer.height.x_of_col(col)) + sy * (y_m - layer.height.y_of_row(row));
+}
+
+namespace {
+
+bool same_geometry(const DenseGrid& a, const DenseGrid& b) {
+  return a.rows == b.rows && a.cols == b.cols && a.resolution_m == b.resolution_m &&
+         a.center_x_m == b.center_x_m && a.center_y_m == b.center_y_m;
+}
+
+// GT pixel rows/cols [r0, r1) x [c0, c1) that can land inside the window: the window's
+// corners moved into W, plus a margin for the height's effect under a tilted T_map_W.
+void pixel_bounds(const DenseGrid& window, const GroundTruth& gt, const Pose3d& T_map_W, int* r0,
+                  int* r1, int* c0, int* c1) {
+  const Pose3d T_W_map = T_map_W.inverse();
+  const double hx = window.cols * window.resolution_m / 2.0;
+  const double hy = window.rows * window.resolution_m / 2.0;
+  double min_x = 1e300, max_x = -1e300, min_y = 1e300, max_y = -1e300;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d p_map(window.center_x_m + ((k & 1) ? hx : -hx),
+                                window.center_y_m + ((k & 2) ? hy : -hy), 0.0);
+    const Eigen::Vector3d p_W = T_W_map * p_map;
+    min_x = std::min(min_x, p_W.x());
+    max_x = std::max(max_x, p_W.x());
+    min_y = std::min(min_y, p_W.y());
+    max_y = std::max(max_y, p_W.y());
+  }
+  const Eigen::Matrix3d& R = T_W_map.linear();
+  const double tilt = std::abs(R(0, 2)) + std::abs(R(1, 2));
+  double margin = 2.0 * gt.height.resolution_m;
+  if (tilt > 0.0) {
+    double z_abs = 0.0;
+    for (float z : gt.height.values)
+      if (std::isfinite(z)) z_abs = std::max(z_abs, static_cast<double>(std::abs(z)));
+    margin += tilt * z_abs;
+  }
+  const DenseGrid& g = gt.height;
+  const auto col_of = [&](double x) { return (x - g.center_x_m) / g.resolution_m + g.cols / 2.0; };
+  const auto row_of = [&](double y) { return (g.center_y_m - y) / g.resolution_m + g.rows / 2.0; };
+  *c0 = std::max(0, static_cast<int>(std::floor(col_of(min_x - margin))));
+  *c1 = std::min(g.cols, static_cast<int>(std::ceil(col_of(max_x + margin))));
+  *r0 = std::max(0, static_cast<int>(std::floor(row_of(max_y + margin))));
+  *r1 = std::min(g.rows, static_cast<int>(std::ceil(row_of(min_y - margin))));
+  if (*c1 < *c0) *c1 = *c0;
+  if (*r1 < *r0) *r1 = *r0;
+}
+
+}  // namespace
+
+MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
+                       double h_min_m, ErrorMaps* maps) {
+  check(gt.height.rows > 0 && gt.height.cols > 0, "evaluation: empty ground-truth height grid");
+  check(same_geometry(gt.height, gt.hazard),
+        "evaluation: ground-truth height and hazard grids differ in size or placement");
+  check(h_min_m > 0.0 && std::isfinite(h_min_m), "evaluation: h_min must be positive");
+  const DenseGrid& window = layer.hazard;
+  check(window.rows > 0, "evaluation: layer without a hazard grid");
+  if (layer.has_height()) {
+    check(same_geometry(layer.height, window), "evaluation: layer height and hazard grids differ");
+    check(layer.variance.rows == 0 || same_geometry(layer.variance, window),
+          "evaluation: layer variance and hazard grids differ");
+  }
+  if (layer.has_plane())
+    check(same_geometry(layer.slope_x, window) && same_geometry(layer.slope_y, window),
+          "evaluation: layer slope and hazard grids differ");
+
+  int r0, r1, c0, c1;
+  pixel_bounds(window, gt, T_map_W, &r0, &r1, &c0, &c1);
+  const DenseGrid& g = gt.height;
+  MetricSums s;
+  s.pixel_area_m2 = g.resolution_m * g.resolution_m;
+  if (maps) {
+    const int rows = r1 - r0, cols = c1 - c0;
+    // Centre of the crop: pixel block [r0, r1) x [c0, c1) of the GT grid.
+    const double cx = g.x_of_col(c0) + (cols - 1) * g.resolution_m / 2.0;
+    const double cy = g.y_of_row(r0) - (rows - 1) * g.resolution_m / 2.0;
+    maps->abs_error_m.reset(rows, cols, g.resolution_m, cx, cy, static_cast<float>(kNaN));
+    maps->outcome.reset(rows, cols, g.resolution_m, cx, cy,
+                        static_cast<float>(PixelOutcome::outside));
+  }
+  const bool with_variance = layer.has_height() && layer.variance.rows > 0;
+  for (int r = r0; r < r1; ++r) {
+    for (int c = c0; c < c1; ++c) {
+      const double z_gt_W = g.at(r, c);
+      const double obstacle_m = gt.hazard.at(r, c);
+      if (!std::isfinite(z_gt_W) || !std::isfinite(obstacle_m)) continue;  // GT has no data
+      const Eigen::Vector3d p_map = T_map_W * Eigen::Vector3d(g.x_of_col(c), g.y_of_row(r), z_gt_W);
+      int mr = 0, mc = 0;
+      if (!window.cell_at(p_map.x(), p_map.y(), &mr, &mc)) continue;
+      ++s.extent_px;
+      const bool gt_hazard = obstacle_m >= h_min_m;
+      const bool gt_free = obstacle_m <= 0.0;
+      s.gt_hazard_px += gt_hazard;
+      const auto cls = static_cast<HazardClass>(static_cast<int>(window.at(mr, mc)));
+      PixelOutcome outcome = PixelOutcome::unknown;
+      if (cls != HazardClass::unknown) {
+        ++s.known_px;
+        s.gt_hazard_known_px += gt_hazard;
+        const bool says_hazard = cls == HazardClass::hazard;
+        if (gt_hazard) {
+          outcome = says_hazard ? PixelOutcome::hazard_ok : PixelOutcome::missed;
+          s.missed_px += !says_hazard;
+        } else if (gt_free) {
+          outcome = says_hazard ? PixelOutcome::false_alarm : PixelOutcome::free_ok;
+          s.false_alarm_px += says_hazard;
+        } else {
+          outcome = PixelOutcome::below_h_min;
+        }
+        const double h = layer_height_at(layer, p_map.x(), p_map.y());
+        if (std::isfinite(h)) {
+          const double e = h - p_map.z();
+          if (gt_free) {
+            ++s.height_px;
+            s.sq_error_sum_m2 += e * e;
+          }
+          const double var = with_variance ? layer.variance.at(mr, mc) : kNaN;
+          if (std::isfinite(var) && var >= 0.0) {
+            ++s.variance_px;
+            s.violation_px += std::abs(e) > 3.0 * std::sqrt(var);
+          }
+          if (maps) maps->abs_error_m.at(r - r0, c - c0) = static_cast<float>(std::abs(e));
+        }
+      }
+      if (maps) maps->outcome.at(r - r0, c - c0) = static_cast<float>(outcome);
+    }
+  }
+  return s;
+}
+
+}  // namespace hazmap::eval

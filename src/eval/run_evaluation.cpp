@@ -1,0 +1,540 @@
+#include "hazmap/eval/run_evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+#include <yaml-cpp/yaml.h>
+
+#include "../pipeline/json_writer.hpp"
+#include "hazmap/core/error.hpp"
+#include "hazmap/eval/html_report.hpp"
+#include "hazmap/eval/plot.hpp"
+#include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/images.hpp"
+#include "hazmap/io/jdem.hpp"
+#include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/pipeline.hpp"
+
+namespace hazmap::eval {
+
+namespace fs = std::filesystem;
+
+double layer_h_min(const LayerConfig& layer, const HazardConfig& hazard, std::string* source) {
+  std::string how;
+  double h = 0.0;
+  if (layer.hazard.h_min_m > 0.0) {
+    h = layer.hazard.h_min_m;
+    how = "hazard.h_min";
+  } else if (layer.rule == RuleKind::ccm) {
+    h = 0.75 * layer.resolution_m;
+    how = "0.75 r";
+  } else {
+    h = roughness_params(layer, hazard).threshold_m;
+    how = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
+                                                   : "derived roughness threshold";
+  }
+  if (source) *source = how;
+  return h;
+}
+
+namespace {
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string() + ": cannot read");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+Config read_run_config(const fs::path& run_dir) {
+  const fs::path summary = run_dir / "summary.json";
+  if (!fs::exists(summary))
+    throw Error(summary.string() + ": missing (is " + run_dir.string() + " the OUT of hazmap run?)");
+  // summary.json is JSON, which yaml-cpp reads as YAML; its settings_yaml is the full
+  // configuration as used, parsed by the same strict loader as a config file.
+  std::string settings;
+  try {
+    const YAML::Node root = YAML::LoadFile(summary.string());
+    if (!root["settings_yaml"]) throw Error(summary.string() + ": no \"settings_yaml\" key");
+    settings = root["settings_yaml"].as<std::string>();
+  } catch (const YAML::Exception& e) {
+    throw Error(summary.string() + ": " + e.what());
+  }
+  return parse_config(settings, summary.string() + " settings_yaml");
+}
+
+DenseGrid read_dense_grid(const fs::path& path) {
+  const JdemGrid j = read_jdem(path);
+  if (j.yaw_rad != 0.0) throw Error(path.string() + ": rotated grids (yaw != 0) are not supported");
+  DenseGrid g;
+  g.rows = j.rows;
+  g.cols = j.cols;
+  g.resolution_m = j.resolution_m;
+  g.center_x_m = j.center_x_m;
+  g.center_y_m = j.center_y_m;
+  g.values = j.values;
+  return g;
+}
+
+GroundTruth read_ground_truth(const fs::path& sequence_dir) {
+  GroundTruth gt;
+  for (const char* name : {"gt_height.jdem", "gt_hazard.jdem"})
+    if (!fs::exists(sequence_dir / name))
+      throw Error((sequence_dir / name).string() +
+                  ": missing ground truth (simulate with --ground-truth)");
+  gt.height = read_dense_grid(sequence_dir / "gt_height.jdem");
+  gt.hazard = read_dense_grid(sequence_dir / "gt_hazard.jdem");
+  if (gt.height.rows != gt.hazard.rows || gt.height.cols != gt.hazard.cols ||
+      gt.height.resolution_m != gt.hazard.resolution_m ||
+      gt.height.center_x_m != gt.hazard.center_x_m || gt.height.center_y_m != gt.hazard.center_y_m)
+    throw Error((sequence_dir / "gt_hazard.jdem").string() +
+                ": grid differs from gt_height.jdem (size, resolution or centre)");
+  return gt;
+}
+
+namespace {
+
+std::map<std::string, Pose3d> read_pose_map(const fs::path& path) {
+  std::map<std::string, Pose3d> poses;
+  for (const auto& [name, pose] : parse_poses(read_text(path), path.string()))
+    poses[name] = pose.T_W_B;
+  return poses;
+}
+
+std::string fmt(double v, const char* format = "%.6g") {
+  if (!std::isfinite(v)) return "nan";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// Percent / centimetre cells for people ("-" when undefined).
+std::string pct(double fraction) {
+  return std::isfinite(fraction) ? fmt(100.0 * fraction, "%.2f") : "-";
+}
+std::string cm(double metres, const char* format = "%.2f") {
+  return std::isfinite(metres) ? fmt(100.0 * metres, format) : "-";
+}
+
+const char* kCsvHeader =
+    "frame,frame_number,layer,resolution_m,rule,h_min_m,extent_m2,known_m2,unknown_fraction,"
+    "height_rms_m,height_samples,gt_hazard_m2,gt_hazard_known_m2,missed_m2,missed_fraction,"
+    "missed_of_hazard,false_alarm_m2,false_alarm_fraction,variance_violation";
+
+std::string csv_metrics(const LayerMetrics& m) {
+  std::ostringstream o;
+  o << fmt(m.extent_area_m2) << ',' << fmt(m.known_area_m2) << ',' << fmt(m.unknown_fraction)
+    << ',' << fmt(m.height_rms_m) << ',' << m.height_samples << ',' << fmt(m.gt_hazard_area_m2)
+    << ',' << fmt(m.gt_hazard_known_area_m2) << ',' << fmt(m.missed_area_m2) << ','
+    << fmt(m.missed_fraction) << ',' << fmt(m.missed_of_hazard) << ','
+    << fmt(m.false_alarm_area_m2) << ',' << fmt(m.false_alarm_fraction) << ','
+    << fmt(m.variance_violation);
+  return o.str();
+}
+
+std::string csv_layer(const EvaluatedLayer& l) {
+  return l.name + ',' + fmt(l.resolution_m) + ',' + l.rule + ',' + fmt(l.h_min_m);
+}
+
+// Frame stems are usually frame numbers ("000012"); fall back to the position.
+double frame_number(const std::string& name, size_t position) {
+  char* end = nullptr;
+  const double v = std::strtod(name.c_str(), &end);
+  return (!name.empty() && *end == '\0') ? v : static_cast<double>(position);
+}
+
+cv::Vec3b outcome_colour(PixelOutcome o) {
+  switch (o) {
+    case PixelOutcome::outside: return {255, 255, 255};
+    case PixelOutcome::unknown: return {150, 150, 150};
+    case PixelOutcome::free_ok: return {190, 225, 190};
+    case PixelOutcome::hazard_ok: return {40, 40, 170};
+    case PixelOutcome::missed: return {255, 0, 255};
+    case PixelOutcome::false_alarm: return {0, 150, 255};
+    case PixelOutcome::below_h_min: return {170, 200, 235};
+  }
+  return {0, 0, 0};
+}
+
+// Which outcome a reduced display pixel shows when its block mixes several: errors first,
+// so that a thin missed sliver survives the reduction.
+int outcome_priority(PixelOutcome o) {
+  switch (o) {
+    case PixelOutcome::missed: return 6;
+    case PixelOutcome::false_alarm: return 5;
+    case PixelOutcome::hazard_ok: return 4;
+    case PixelOutcome::below_h_min: return 3;
+    case PixelOutcome::free_ok: return 2;
+    case PixelOutcome::unknown: return 1;
+    case PixelOutcome::outside: return 0;
+  }
+  return 0;
+}
+
+// Block-reduces a GT-resolution picture to at most max_px per side: mean of the finite
+// values (error maps) or the highest-priority outcome.
+DenseGrid reduce(const DenseGrid& g, int max_px, bool outcomes) {
+  const int step = std::max(1, (std::max(g.rows, g.cols) + max_px - 1) / max_px);
+  if (step == 1) return g;
+  DenseGrid out;
+  const int rows = (g.rows + step - 1) / step, cols = (g.cols + step - 1) / step;
+  out.reset(rows, cols, g.resolution_m * step, g.center_x_m, g.center_y_m, NAN);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      double sum = 0;
+      int n = 0, best = -1;
+      float best_v = 0;
+      for (int rr = r * step; rr < std::min(g.rows, (r + 1) * step); ++rr)
+        for (int cc = c * step; cc < std::min(g.cols, (c + 1) * step); ++cc) {
+          const float v = g.at(rr, cc);
+          if (outcomes) {
+            const int p = outcome_priority(static_cast<PixelOutcome>(static_cast<int>(v)));
+            if (p > best) best = p, best_v = v;
+          } else if (std::isfinite(v)) {
+            sum += v;
+            ++n;
+          }
+        }
+      out.at(r, c) = outcomes ? best_v : (n ? static_cast<float>(sum / n) : NAN);
+    }
+  return out;
+}
+
+cv::Mat render_outcomes(const DenseGrid& outcome, const std::string& title, int scale) {
+  scale = std::max(1, scale);
+  const int top = 24;
+  cv::Mat img(outcome.rows * scale + top + 6, std::max(outcome.cols * scale, 200) + 4, CV_8UC3,
+              cv::Scalar(255, 255, 255));
+  for (int r = 0; r < outcome.rows; ++r)
+    for (int c = 0; c < outcome.cols; ++c)
+      img(cv::Rect(c * scale, top + r * scale, scale, scale))
+          .setTo(outcome_colour(static_cast<PixelOutcome>(static_cast<int>(outcome.at(r, c)))));
+  put_label(img, title, 2, 16, 0.42, cv::Scalar(0, 0, 0));
+  return img;
+}
+
+cv::Mat outcome_legend() {
+  const std::pair<PixelOutcome, const char*> items[] = {
+      {PixelOutcome::free_ok, "free, traversable"}, {PixelOutcome::hazard_ok, "obstacle found"},
+      {PixelOutcome::missed, "MISSED obstacle"},    {PixelOutcome::false_alarm, "false alarm"},
+      {PixelOutcome::below_h_min, "obstacle < h_min"}, {PixelOutcome::unknown, "unknown"}};
+  cv::Mat img(28, 6 * 150, CV_8UC3, cv::Scalar(255, 255, 255));
+  int x = 6;
+  for (const auto& [o, text] : items) {
+    const cv::Vec3b c = outcome_colour(o);
+    cv::rectangle(img, cv::Rect(x, 8, 14, 14), cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
+    cv::rectangle(img, cv::Rect(x, 8, 14, 14), cv::Scalar(90, 90, 90), 1);
+    put_label(img, text, x + 18, 20, 0.4);
+    x += 150;
+  }
+  return img;
+}
+
+LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
+  LayerMaps maps;
+  if (layer.index < 0) {
+    maps.hazard = read_dense_grid(frame_dir / "fused_hazard.jdem");
+    return maps;
+  }
+  const std::string p = "L" + std::to_string(layer.index) + "_";
+  maps.hazard = read_dense_grid(frame_dir / (p + "hazard.jdem"));
+  maps.height = read_dense_grid(frame_dir / (p + "height.jdem"));
+  if (fs::exists(frame_dir / (p + "variance.jdem")))
+    maps.variance = read_dense_grid(frame_dir / (p + "variance.jdem"));
+  if (layer.rule == "ccm") {
+    maps.slope_x = read_dense_grid(frame_dir / (p + "slope_x.jdem"));
+    maps.slope_y = read_dense_grid(frame_dir / (p + "slope_y.jdem"));
+  }
+  return maps;
+}
+
+void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
+                   const std::vector<std::pair<std::string, fs::path>>& error_pngs,
+                   const Config& config) {
+  const fs::path& out = ev.out_dir;
+  // metrics.csv
+  std::ostringstream csv;
+  csv << kCsvHeader << '\n';
+  for (size_t f = 0; f < ev.frames.size(); ++f)
+    for (size_t l = 0; l < ev.layers.size(); ++l)
+      csv << ev.frames[f] << ',' << fmt(frame_number(ev.frames[f], f)) << ','
+          << csv_layer(ev.layers[l]) << ',' << csv_metrics(derive_metrics(ev.sums[f][l])) << '\n';
+  write_file_atomically(out / "metrics.csv", csv.str());
+
+  // summary.csv: pooled per layer; frame columns hold the count of frames.
+  std::ostringstream sum;
+  sum << "frames," << std::string(kCsvHeader).substr(std::string("frame,frame_number,").size())
+      << '\n';
+  for (size_t l = 0; l < ev.layers.size(); ++l)
+    sum << ev.frames.size() << ',' << csv_layer(ev.layers[l]) << ','
+        << csv_metrics(derive_metrics(ev.pooled[l])) << '\n';
+  write_file_atomically(out / "summary.csv", sum.str());
+
+  // metrics.json
+  JsonWriter j;
+  j.begin_object();
+  j.key("hazmap_version").value(HAZMAP_VERSION);
+  j.key("run").value(options.run_dir.string());
+  j.key("sequence").value(options.sequence_dir.string());
+  j.key("frames").value(ev.frames.size());
+  j.key("true_poses").value(ev.used_true_poses ? std::string("poses_true.txt")
+                                               : std::string("poses.txt (no drift)"));
+  j.key("pooling").value(
+      "sums over all frames: areas add up, RMS over all pixels, fractions of the pooled areas");
+  j.key("layers").begin_array();
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const EvaluatedLayer& L = ev.layers[l];
+    const LayerMetrics m = derive_metrics(ev.pooled[l]);
+    j.begin_object();
+    j.key("layer").value(L.name);
+    j.key("resolution_m").value(L.resolution_m);
+    j.key("rule").value(L.rule);
+    j.key("h_min_m").value(L.h_min_m);
+    j.key("h_min_source").value(L.h_min_source);
+    j.key("extent_m2").value(m.extent_area_m2);
+    j.key("known_m2").value(m.known_area_m2);
+    j.key("unknown_fraction").value(m.unknown_fraction);
+    j.key("height_rms_m").value(m.height_rms_m);
+    j.key("height_samples").value(m.height_samples);
+    j.key("gt_hazard_m2").value(m.gt_hazard_area_m2);
+    j.key("gt_hazard_known_m2").value(m.gt_hazard_known_area_m2);
+    j.key("missed_m2").value(m.missed_area_m2);
+    j.key("missed_fraction").value(m.missed_fraction);
+    j.key("missed_of_hazard").value(m.missed_of_hazard);
+    j.key("false_alarm_m2").value(m.false_alarm_area_m2);
+    j.key("false_alarm_fraction").value(m.false_alarm_fraction);
+    j.key("variance_violation").value(m.variance_violation);
+    const LayerMetrics last = derive_metrics(ev.sums.back()[l]);
+    j.key("last_frame").begin_object();
+    j.key("height_rms_m").value(last.height_rms_m);
+    j.key("missed_m2").value(last.missed_area_m2);
+    j.key("false_alarm_m2").value(last.false_alarm_area_m2);
+    j.key("unknown_fraction").value(last.unknown_fraction);
+    j.end_object();
+    j.end_object();
+  }
+  j.end_array();
+  j.key("settings_yaml").value(to_yaml(config));
+  j.end_object();
+  write_file_atomically(out / "metrics.json", j.str());
+
+  // metrics_over_time.png
+  struct Panel {
+    const char* title;
+    const char* y_label;
+    double scale;
+    double LayerMetrics::*field;
+  };
+  const Panel panels[] = {
+      {"height RMS", "cm", 100.0, &LayerMetrics::height_rms_m},
+      {"missed obstacle area / known obstacle area", "%", 100.0, &LayerMetrics::missed_of_hazard},
+      {"false alarm area / known area", "%", 100.0, &LayerMetrics::false_alarm_fraction},
+      {"unknown fraction of the window", "%", 100.0, &LayerMetrics::unknown_fraction},
+      {"variance violations (|e| > 3 sigma)", "%", 100.0, &LayerMetrics::variance_violation},
+      {"missed obstacle area", "cm^2", 1e4, &LayerMetrics::missed_area_m2},
+  };
+  std::vector<cv::Mat> charts;
+  for (const Panel& p : panels) {
+    LineChart chart;
+    chart.title = p.title;
+    chart.x_label = "frame";
+    chart.y_label = p.y_label;
+    for (size_t l = 0; l < ev.layers.size(); ++l) {
+      if (ev.layers[l].index < 0 && p.field == &LayerMetrics::height_rms_m) continue;
+      if (ev.layers[l].index < 0 && p.field == &LayerMetrics::variance_violation) continue;
+      Series s;
+      s.name = ev.layers[l].name + " " + fmt(ev.layers[l].resolution_m * 100, "%g") + " cm";
+      for (size_t f = 0; f < ev.frames.size(); ++f) {
+        s.x.push_back(frame_number(ev.frames[f], f));
+        s.y.push_back(derive_metrics(ev.sums[f][l]).*(p.field) * p.scale);
+      }
+      chart.series.push_back(std::move(s));
+    }
+    charts.push_back(plot_lines(chart));
+  }
+  write_png(out / "metrics_over_time.png", tile_images(charts, 2));
+
+  if (!options.write_report) return;
+  HtmlPage page;
+  const fs::path run_name = options.run_dir.lexically_normal().filename().empty()
+                                ? options.run_dir.lexically_normal().parent_path().filename()
+                                : options.run_dir.lexically_normal().filename();
+  page.title = "hazmap evaluation: " + run_name.string();
+  page.subtitle = "run " + options.run_dir.string() + " | sequence " +
+                  options.sequence_dir.string() + " | " + std::to_string(ev.frames.size()) +
+                  " frames | map frame: " +
+                  (ev.used_true_poses ? "drifted poses, ground truth placed with poses_true.txt"
+                                      : "true poses");
+  HtmlSection summary;
+  summary.heading = "Summary per layer (SPEC 10, pooled over frames)";
+  summary.text =
+      "Known = the layer gives a class other than unknown. Height RMS over known pixels "
+      "without obstacle (CCM layers queried on their cell planes). Missed = obstacle at least "
+      "h_min high that the layer calls traversable; false alarm = obstacle-free ground the "
+      "layer calls a hazard.";
+  HtmlTable table;
+  table.id = "summary";
+  table.header = {"layer", "cell [cm]", "rule", "h_min [cm]", "h_min from", "height RMS [cm]", "unknown [%]",
+                  "obstacles known [m2]", "missed [m2]", "missed [% of known]",
+                  "missed [% of obstacles]", "false alarm [m2]", "false alarm [% of known]",
+                  "variance violations [%]"};
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const EvaluatedLayer& L = ev.layers[l];
+    const LayerMetrics m = derive_metrics(ev.pooled[l]);
+    table.rows.push_back({L.name, fmt(L.resolution_m * 100, "%g"), L.rule,
+                          cm(L.h_min_m, "%.1f"), L.h_min_source,
+                          cm(m.height_rms_m, "%.3f"), pct(m.unknown_fraction),
+                          fmt(m.gt_hazard_known_area_m2, "%.4f"), fmt(m.missed_area_m2, "%.4f"),
+                          pct(m.missed_fraction), pct(m.missed_of_hazard),
+                          fmt(m.false_alarm_area_m2, "%.4f"), pct(m.false_alarm_fraction),
+                          pct(m.variance_violation)});
+  }
+  summary.tables.push_back(table);
+  page.sections.push_back(summary);
+  HtmlSection over_time;
+  over_time.heading = "Metrics over time";
+  over_time.figures.push_back({"metrics_over_time.png", "each metric per written frame and layer"});
+  page.sections.push_back(over_time);
+  HtmlSection errors;
+  errors.heading = "Error maps";
+  errors.text = "Per layer: |h - h_gt| over the layer's window (left) and what happened at each "
+                "ground-truth pixel (right).";
+  for (const auto& [frame, png] : error_pngs)
+    errors.figures.push_back({png.filename().string(), "frame " + frame});
+  page.sections.push_back(errors);
+  // Frame viewer: the mosaics of `hazmap run --mosaic`, else the fused hazard maps.
+  for (size_t f = 0; f < ev.frames.size(); ++f) {
+    fs::path image = options.run_dir / "mosaic" / (ev.frames[f] + ".png");
+    if (!fs::exists(image)) image = options.run_dir / "frames" / ev.frames[f] / "fused_hazard.png";
+    if (!fs::exists(image)) continue;
+    page.viewer_images.push_back(fs::relative(image, out).generic_string());
+    page.viewer_labels.push_back("frame " + ev.frames[f]);
+  }
+  page.viewer_heading = fs::exists(options.run_dir / "mosaic")
+                            ? "Frame by frame (mosaic of every layer)"
+                            : "Frame by frame (fused hazard map; run with --mosaic for all layers)";
+  write_file_atomically(out / "report.html", render_html(page));
+}
+
+}  // namespace
+
+RunEvaluation evaluate_run(const EvaluationOptions& options) {
+  RunEvaluation ev;
+  ev.out_dir = options.out_dir.empty() ? options.run_dir / "eval" : options.out_dir;
+  const Config config = read_run_config(options.run_dir);
+  const GroundTruth gt = read_ground_truth(options.sequence_dir);
+
+  const fs::path frames_dir = options.run_dir / "frames";
+  if (!fs::is_directory(frames_dir)) throw Error(frames_dir.string() + ": missing");
+  for (const auto& entry : fs::directory_iterator(frames_dir))
+    if (entry.is_directory()) ev.frames.push_back(entry.path().filename().string());
+  std::sort(ev.frames.begin(), ev.frames.end());
+  if (ev.frames.empty()) throw Error(frames_dir.string() + ": no frame folders");
+
+  double fused_h_min = 1e300;
+  for (size_t i = 0; i < config.map.layers.size(); ++i) {
+    const LayerConfig& lc = config.map.layers[i];
+    EvaluatedLayer l;
+    l.name = "L" + std::to_string(i);
+    l.index = static_cast<int>(i);
+    l.resolution_m = lc.resolution_m;
+    l.rule = rule_name(lc.rule);
+    l.h_min_m = layer_h_min(lc, config.hazard, &l.h_min_source);
+    fused_h_min = std::min(fused_h_min, l.h_min_m);
+    ev.layers.push_back(l);
+  }
+  if (!config.map.layers.empty()) {
+    EvaluatedLayer fused;
+    fused.name = "fused";
+    fused.resolution_m = config.map.layers.front().resolution_m;
+    fused.rule = "fused";
+    fused.h_min_m = fused_h_min;
+    fused.h_min_source = "smallest layer h_min";
+    ev.layers.push_back(fused);
+  }
+
+  std::map<std::string, Pose3d> used = read_pose_map(options.sequence_dir / "poses.txt");
+  std::map<std::string, Pose3d> truth;
+  ev.used_true_poses = fs::exists(options.sequence_dir / "poses_true.txt");
+  if (ev.used_true_poses) truth = read_pose_map(options.sequence_dir / "poses_true.txt");
+
+  std::set<std::string> error_frames(options.error_map_frames.begin(),
+                                     options.error_map_frames.end());
+  if (error_frames.empty()) error_frames.insert(ev.frames.back());
+  const bool all_error_maps = error_frames.count("all") > 0;
+  for (const std::string& f : error_frames)
+    if (f != "all" && !std::binary_search(ev.frames.begin(), ev.frames.end(), f))
+      throw Error("--error-maps: frame '" + f + "' was not written by the run");
+
+  fs::create_directories(ev.out_dir);
+  std::vector<std::pair<std::string, fs::path>> error_pngs;
+  ev.pooled.assign(ev.layers.size(), MetricSums{});
+  for (size_t f = 0; f < ev.frames.size(); ++f) {
+    const std::string& name = ev.frames[f];
+    Pose3d T_map_W = Pose3d::Identity();
+    if (ev.used_true_poses) {
+      const auto u = used.find(name);
+      const auto t = truth.find(name);
+      if (u == used.end())
+        throw Error((options.sequence_dir / "poses.txt").string() + ": no pose for frame " + name);
+      if (t == truth.end())
+        throw Error((options.sequence_dir / "poses_true.txt").string() + ": no pose for frame " +
+                    name);
+      T_map_W = u->second * t->second.inverse();
+    }
+    const bool maps_wanted = all_error_maps || error_frames.count(name) > 0;
+    std::vector<cv::Mat> tiles;
+    std::vector<MetricSums> row;
+    for (size_t l = 0; l < ev.layers.size(); ++l) {
+      const LayerMaps layer = read_layer(frames_dir / name, ev.layers[l]);
+      ErrorMaps maps;
+      const MetricSums s =
+          score_layer(layer, gt, T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr);
+      ev.pooled[l] += s;
+      row.push_back(s);
+      if (maps_wanted) {
+        const std::string label = ev.layers[l].name + " " +
+                                  fmt(ev.layers[l].resolution_m * 100, "%g") + " cm " +
+                                  ev.layers[l].rule;
+        const DenseGrid err = reduce(maps.abs_error_m, 300, false);
+        const DenseGrid out = reduce(maps.outcome, 300, true);
+        const int scale = std::max(
+            1, static_cast<int>(std::lround(300.0 / std::max(1, std::max(err.rows, err.cols)))));
+        if (ev.layers[l].index >= 0)
+          tiles.push_back(render_scalar_grid(err, 0.0, 0.05, label + ": |h - h_gt| (clamped)",
+                                             "m", scale));
+        else
+          tiles.push_back(cv::Mat(24, 24, CV_8UC3, cv::Scalar(255, 255, 255)));
+        tiles.push_back(render_outcomes(out, label + ": h_min " + cm(ev.layers[l].h_min_m, "%.1f") +
+                                                 " cm", scale));
+      }
+    }
+    ev.sums.push_back(std::move(row));
+    if (maps_wanted) {
+      cv::Mat grid = tile_images(tiles, 2);
+      const cv::Mat legend = outcome_legend();
+      cv::Mat page(grid.rows + legend.rows, std::max(grid.cols, legend.cols), CV_8UC3,
+                   cv::Scalar(255, 255, 255));
+      grid.copyTo(page(cv::Rect(0, 0, grid.cols, grid.rows)));
+      legend.copyTo(page(cv::Rect(0, grid.rows, legend.cols, legend.rows)));
+      const fs::path png = ev.out_dir / ("errors_" + name + ".png");
+      write_png(png, page);
+      error_pngs.emplace_back(name, png);
+    }
+    spdlog::info("evaluated frame {}/{} {}", f + 1, ev.frames.size(), name);
+  }
+  write_outputs(options, ev, error_pngs, config);
+  return ev;
+}
+
+}  // namespace hazmap::eval

@@ -1,0 +1,157 @@
+// Calibration files: our calibration.yaml written and read back exactly, and OpenCV
+// FileStorage stereo files (M1 D1 M2 D2 R T) in YAML and XML.
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include "hazmap/camera/stereo_calibration.hpp"
+#include "hazmap/core/error.hpp"
+#include "hazmap/io/opencv_calibration.hpp"
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+StereoCalibration example() {
+  StereoCalibration c;
+  c.image_width = 752;
+  c.image_height = 480;
+  c.left.K << 458.654, 0, 367.215, 0, 457.296, 248.375, 0, 0, 1;
+  c.right.K << 457.587, 0, 379.999, 0, 456.134, 255.238, 0, 0, 1;
+  c.left.D = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
+  c.right.D = {-0.28368365, 0.07451284, -0.00010473, -3.55590700e-05, 0.001};
+  c.R = Eigen::AngleAxisd(0.0139, Eigen::Vector3d(0.2, 0.9, -0.1).normalized()).toRotationMatrix();
+  c.T = Eigen::Vector3d(-0.110074, 0.000399, -0.000853);
+  c.T_B_C.linear() = rotation_from_rpy(-1.5, 0.1, -1.6);
+  c.T_B_C.translation() = Eigen::Vector3d(-0.0216, -0.0647, 0.0098);
+  return c;
+}
+
+void expect_same(const StereoCalibration& a, const StereoCalibration& b, double tol) {
+  EXPECT_EQ(a.image_width, b.image_width);
+  EXPECT_EQ(a.image_height, b.image_height);
+  EXPECT_LE((a.left.K - b.left.K).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((a.right.K - b.right.K).cwiseAbs().maxCoeff(), tol);
+  ASSERT_EQ(a.left.D.size(), b.left.D.size());
+  ASSERT_EQ(a.right.D.size(), b.right.D.size());
+  for (size_t i = 0; i < a.left.D.size(); ++i) EXPECT_NEAR(a.left.D[i], b.left.D[i], tol);
+  for (size_t i = 0; i < a.right.D.size(); ++i) EXPECT_NEAR(a.right.D[i], b.right.D[i], tol);
+  EXPECT_LE((a.R - b.R).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((a.T - b.T).cwiseAbs().maxCoeff(), tol);
+  EXPECT_EQ(a.rectified, b.rectified);
+}
+
+TEST(CalibrationFile, WrittenAndReadBackExactly) {
+  testing::TempDir dir;
+  const StereoCalibration c = example();
+  save_stereo_calibration(dir / "calibration.yaml", c, "made by a test\nsecond line");
+  const StereoCalibration back = load_stereo_calibration(dir / "calibration.yaml");
+  expect_same(back, c, 0.0);  // 17 significant digits: bit-exact
+  EXPECT_LT((back.T_B_C.matrix() - c.T_B_C.matrix()).cwiseAbs().maxCoeff(), 1e-15);
+
+  StereoCalibration rectified;
+  rectified.image_width = 640;
+  rectified.image_height = 520;
+  rectified.left.K << 268.4, 0, 319.5, 0, 268.4, 259.5, 0, 0, 1;
+  rectified.right.K = rectified.left.K;
+  rectified.T = Eigen::Vector3d(-0.05, 0, 0);
+  rectified.rectified = true;
+  save_stereo_calibration(dir / "r.yaml", rectified);
+  expect_same(load_stereo_calibration(dir / "r.yaml"), rectified, 0.0);
+
+  StereoCalibration broken = c;
+  broken.T.setZero();
+  EXPECT_THROW(save_stereo_calibration(dir / "broken.yaml", broken), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "broken.yaml"));
+}
+
+void write_opencv(const std::filesystem::path& path, const StereoCalibration& c, bool rodrigues,
+                  bool size_as_list) {
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+  auto mat = [](const Eigen::Matrix3d& m) {
+    cv::Mat out(3, 3, CV_64F);
+    for (int i = 0; i < 9; ++i) out.at<double>(i / 3, i % 3) = m(i / 3, i % 3);
+    return out;
+  };
+  fs << "M1" << mat(c.left.K) << "D1" << cv::Mat(c.left.D, true).reshape(1, 1);
+  fs << "M2" << mat(c.right.K) << "D2" << cv::Mat(c.right.D, true);
+  if (rodrigues) {
+    cv::Mat r;
+    cv::Rodrigues(mat(c.R), r);
+    fs << "R" << r;
+  } else {
+    fs << "R" << mat(c.R);
+  }
+  fs << "T" << (cv::Mat_<double>(3, 1) << c.T.x() * 40, c.T.y() * 40, c.T.z() * 40);
+  if (size_as_list) {
+    fs << "imageSize" << "[" << c.image_width << c.image_height << "]";
+  } else {
+    fs << "image_width" << c.image_width << "image_height" << c.image_height;
+  }
+}
+
+TEST(CalibrationFile, OpenCvFileStorageYamlAndXml) {
+  testing::TempDir dir;
+  const StereoCalibration c = example();
+  OpenCvCalibrationOptions options;
+  options.T_to_m = 1.0 / 40;  // T written in units of 2.5 cm squares
+  write_opencv(dir / "stereo.yml", c, false, false);
+  expect_same(load_opencv_stereo_calibration(dir / "stereo.yml", options), c, 1e-12);
+  write_opencv(dir / "stereo.xml", c, true, true);
+  expect_same(load_opencv_stereo_calibration(dir / "stereo.xml", options), c, 1e-12);
+  // A sequence's calibration.yaml may be an OpenCV file (T in metres then).
+  write_opencv(dir / "calibration.yaml", c, false, false);
+  const StereoCalibration auto_detected = load_stereo_calibration(dir / "calibration.yaml");
+  EXPECT_NEAR(auto_detected.T.x(), 40 * c.T.x(), 1e-12);
+  EXPECT_TRUE(auto_detected.T_B_C.isApprox(Pose3d::Identity()));
+}
+
+TEST(CalibrationFile, OpenCvSplitFilesAndErrors) {
+  testing::TempDir dir;
+  const StereoCalibration c = example();
+  {
+    // OpenCV's stereo_calib sample: intrinsics.yml and extrinsics.yml, no image size.
+    cv::FileStorage in((dir / "intrinsics.yml").string(), cv::FileStorage::WRITE);
+    cv::Mat K1(3, 3, CV_64F), K2(3, 3, CV_64F);
+    for (int i = 0; i < 9; ++i) K1.at<double>(i / 3, i % 3) = c.left.K(i / 3, i % 3);
+    for (int i = 0; i < 9; ++i) K2.at<double>(i / 3, i % 3) = c.right.K(i / 3, i % 3);
+    in << "M1" << K1 << "D1" << cv::Mat(c.left.D, true) << "M2" << K2 << "D2"
+       << cv::Mat(c.right.D, true);
+    cv::FileStorage ex((dir / "extrinsics.yml").string(), cv::FileStorage::WRITE);
+    cv::Mat R(3, 3, CV_64F);
+    for (int i = 0; i < 9; ++i) R.at<double>(i / 3, i % 3) = c.R(i / 3, i % 3);
+    ex << "R" << R << "T" << (cv::Mat_<double>(3, 1) << c.T.x(), c.T.y(), c.T.z());
+  }
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string intrinsics = (dir / "intrinsics.yml").string();
+  EXPECT_EQ(message([&] { load_opencv_stereo_calibration(dir / "intrinsics.yml"); }),
+            intrinsics + ": key 'R': missing required key");
+  EXPECT_EQ(message([&] {
+              load_opencv_stereo_calibration(dir / "intrinsics.yml", {}, dir / "extrinsics.yml");
+            }),
+            intrinsics + ": key 'image_width': no image size in the file (image_width/image_height "
+                         "or imageSize) and none given");
+  OpenCvCalibrationOptions options;
+  options.image_width = 752;
+  options.image_height = 480;
+  expect_same(load_opencv_stereo_calibration(dir / "intrinsics.yml", options, dir / "extrinsics.yml"),
+              c, 1e-12);
+  std::ofstream(dir / "garbage.yml") << "%YAML:1.0\nM1: [1, 2\n";
+  EXPECT_NE(message([&] { load_opencv_stereo_calibration(dir / "garbage.yml"); })
+                .find("garbage.yml"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,0 +1,84 @@
+// `hazmap simulate` on the command line: the new flags reach the simulator, and bad
+// values stop with one line naming the flag or option (exit 2 for usage, 1 for values).
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "test_support.hpp"
+
+namespace hazmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stderr and stdout
+};
+
+CommandResult simulate(const std::string& args) {
+  const std::string cmd = std::string(HAZMAP_CLI) + " simulate " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  CommandResult r;
+  if (!pipe) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+TEST(SimulateCli, EveryFeatureFromTheCommandLine) {
+  testing::TempDir dir;
+  const CommandResult r = simulate(
+      "--scenario craters --frames 3 --scale 0.05 --path spline --max-turn-deg 20 "
+      "--drift 0.05 --drift-direction-deg 90 --distort --misalign --depth --ground-truth "
+      "--gt-margin 0.2 --scatter-rocks --rock-count 6 --rock-radius 0.05 --rock-box 1,3,1 "
+      "--crater-count 2 --crater-radius 0.3:0.5 --terrain-size 6 --quiet --out " +
+      (dir / "seq").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"left/000002.png", "right/000002.png", "depth/000002.tiff",
+                           "poses.txt", "poses_true.txt", "gt_height.jdem", "gt_hazard.jdem"}) {
+    EXPECT_TRUE(fs::is_regular_file(dir / "seq" / name)) << name;
+  }
+  const YAML::Node sim = YAML::LoadFile((dir / "seq/simulation.yaml").string());
+  EXPECT_EQ(sim["scenario"].as<std::string>(), "craters");
+  EXPECT_EQ(sim["path"]["kind"].as<std::string>(), "spline");
+  EXPECT_EQ(sim["path"]["max_turn_deg"].as<double>(), 20.0);
+  EXPECT_EQ(sim["drift"]["direction_deg"].as<double>(), 90.0);
+  EXPECT_EQ(sim["craters"].size(), 2u);
+  ASSERT_EQ(sim["rocks"].size(), 6u);
+  EXPECT_EQ(sim["rocks"][0]["radius"].as<double>(), 0.05);
+  EXPECT_EQ(sim["rig_errors"]["distortion"][0].as<double>(), -0.08);
+  const YAML::Node calib = YAML::LoadFile((dir / "seq/calibration.yaml").string());
+  EXPECT_FALSE(calib["rectified"].as<bool>());
+}
+
+TEST(SimulateCli, BadValuesAreNamed) {
+  testing::TempDir dir;
+  const std::string out = " --out " + (dir / "seq").string();
+  CommandResult r = simulate("--distortion 1,2" + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--distortion"), std::string::npos) << r.output;
+  r = simulate("--rock-count 3:x" + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--rock-count"), std::string::npos) << r.output;
+  r = simulate("--scenario moon" + out);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("moon"), std::string::npos) << r.output;
+  r = simulate("--rock-sizes lognormal" + out);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--rock-sizes"), std::string::npos) << r.output;
+  r = simulate("--path zigzag" + out);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("zigzag"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
+}  // namespace
+}  // namespace hazmap

@@ -1,0 +1,116 @@
+// PointCloudBuilder against a slow per-pixel reference: which pixels give points
+// (valid disparity, stride grid, valid rectified regions of both cameras, stereo.roi,
+// depth gate) and the exact point and covariance each one gives.
+
+#include <set>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/stereo/point_cloud_builder.hpp"
+
+namespace hazmap {
+namespace {
+
+const StereoGeometry kGeometry{100.0, 0.1, 31.5, 23.5};  // f B = 10 px m
+
+/// Disparity varying by column: Z = 10 / d from 10 px (1 m) up to 10 + 0.25 * 63 px,
+/// with an invalid pixel every 7th.
+cv::Mat synthetic_disparity() {
+  cv::Mat d(48, 64, CV_16S);
+  for (int v = 0; v < d.rows; ++v)
+    for (int u = 0; u < d.cols; ++u)
+      d.at<int16_t>(v, u) = (u + 3 * v) % 7 == 0 ? -16 : static_cast<int16_t>(160 + 4 * u);
+  return d;
+}
+
+TEST(PointCloudBuilder, KeepsExactlyThePixelsItShould) {
+  StereoConfig stereo;
+  stereo.stride = 3;
+  stereo.roi_px = {10, 5, 45, 20};
+  stereo.z_min_m = 0.5;
+  stereo.z_max_m = 0.8;  // d in [12.5, 20] px: u in [10, 40]
+  SensorConfig sensor;
+  const cv::Rect left_valid(2, 0, 50, 40), right_valid(8, 3, 56, 45);
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, Eigen::Matrix3d::Identity(),
+                                  Pose3d::Identity(), left_valid, right_valid);
+  const cv::Mat disparity = synthetic_disparity();
+  PointCloud cloud;
+  std::vector<cv::Point> pixels;
+  builder.build(disparity, 0, Pose3d::Identity(), cloud, pixels);
+
+  // Reference: every pixel tested on its own.
+  const cv::Rect region = left_valid & cv::Rect(10, 5, 45, 20);
+  EXPECT_EQ(builder.region(), region);
+  std::set<std::pair<int, int>> expected;
+  for (int v = 0; v < disparity.rows; ++v)
+    for (int u = 0; u < disparity.cols; ++u) {
+      const int d16 = disparity.at<int16_t>(v, u);
+      const double d = d16 / 16.0, z = 10.0 / d;
+      const bool on_grid = (u - region.x) % 3 == 0 && (v - region.y) % 3 == 0;
+      if (region.contains({u, v}) && on_grid && d16 > 0 && z >= 0.5 && z <= 0.8 &&
+          u - d >= right_valid.x && u - d <= right_valid.br().x - 1 && v >= right_valid.y &&
+          v < right_valid.br().y)
+        expected.insert({u, v});
+    }
+  ASSERT_GT(expected.size(), 20u);
+  std::set<std::pair<int, int>> got;
+  for (const auto& p : pixels) got.insert({p.x, p.y});
+  EXPECT_EQ(got, expected);
+  ASSERT_EQ(cloud.size(), pixels.size());
+  // The overload without pixels gives the same cloud.
+  PointCloud again;
+  builder.build(disparity, 0, Pose3d::Identity(), again);
+  ASSERT_EQ(again.size(), cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) EXPECT_EQ(again[i].p_W, cloud[i].p_W);
+}
+
+TEST(PointCloudBuilder, InvalidBelowFollowsMinDisparity) {
+  StereoConfig stereo;
+  stereo.z_min_m = 0.01;
+  stereo.z_max_m = 100;
+  SensorConfig sensor;
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, Eigen::Matrix3d::Identity(),
+                                  Pose3d::Identity(), cv::Rect(0, 0, 64, 48));
+  cv::Mat d(48, 64, CV_16S, cv::Scalar(16 * 4));  // exactly min_disparity 4: invalid
+  d.at<int16_t>(10, 20) = 16 * 4 + 1;             // just above: valid
+  PointCloud cloud;
+  builder.build(d, 16 * 4, Pose3d::Identity(), cloud);
+  ASSERT_EQ(cloud.size(), 1u);
+  EXPECT_NEAR(cloud[0].p_W.z(), 10.0 / (4 + 1.0 / 16), 1e-6);
+}
+
+TEST(PointCloudBuilder, PointAndRayCovarianceGoThroughR1AndTheBodyPose) {
+  StereoConfig stereo;
+  stereo.z_min_m = 0.01;
+  stereo.z_max_m = 100;
+  SensorConfig sensor;
+  sensor.model = "ray";
+  const Eigen::Matrix3d R1 =
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
+  Pose3d T_B_C = Pose3d::Identity();
+  T_B_C.linear() = rotation_from_rpy(-M_PI / 2, 0.3, -M_PI / 2);
+  T_B_C.translation() = Eigen::Vector3d(0.1, 0.02, 0.3);
+  Pose3d T_W_B = Pose3d::Identity();
+  T_W_B.linear() = rotation_from_rpy(0.02, -0.01, 1.2);
+  T_W_B.translation() = Eigen::Vector3d(3, -2, 0.5);
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+  cv::Mat d(48, 64, CV_16S, cv::Scalar(-16));
+  d.at<int16_t>(30, 12) = 16 * 20 + 5;
+  PointCloud cloud;
+  builder.build(d, 0, T_W_B, cloud);
+  ASSERT_EQ(cloud.size(), 1u);
+  const double disp = 20 + 5.0 / 16;
+  const Eigen::Matrix3d R_W_Cr = T_W_B.linear() * T_B_C.linear() * R1.transpose();
+  const Eigen::Vector3d p_W = T_W_B * (T_B_C * (R1.transpose() * triangulate(kGeometry, 12, 30, disp)));
+  EXPECT_LT((cloud[0].p_W.cast<double>() - p_W).norm(), 1e-6);
+  const Eigen::Matrix3d cov = R_W_Cr * covariance_ray(kGeometry, 12, 30, disp, 0.5, 0.25) *
+                              R_W_Cr.transpose();
+  const float got[6] = {cloud[0].cov_xx, cloud[0].cov_xy, cloud[0].cov_xz,
+                        cloud[0].cov_yy, cloud[0].cov_yz, cloud[0].cov_zz};
+  const double want[6] = {cov(0, 0), cov(0, 1), cov(0, 2), cov(1, 1), cov(1, 2), cov(2, 2)};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], 1e-6 * cov.norm()) << i;
+}
+
+}  // namespace
+}  // namespace hazmap
