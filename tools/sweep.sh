@@ -25,7 +25,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 self="$repo/tools/sweep.sh"
 
 usage() {
-  sed -n '2,24p' "$self" | sed 's/^# \{0,1\}//'
+  awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$self"
   cat <<'EOF'
 Options:
   --quick             radii 3 4 8 16 34 cm, scale 0.25, 10 frames of 8 cm, drift 0 10 20 %
@@ -39,6 +39,7 @@ Options:
   --seed N            simulation seed (default 7)
   --keep-images       keep the rendered stereo images of every case
   --publish DIR       copy the summary's figures and tables.md into DIR (e.g. docs/eval)
+  --summary-only      skip the cases; summarise what OUT already holds (after a partial run)
 EOF
 }
 
@@ -72,7 +73,7 @@ fi
 
 # ---------------------------------------------------------------------------------------
 quick=0 out="" hazmap="${HAZMAP:-$repo/build/hazmap}" jobs="" sshlogin="" only="sizes,craters,drift"
-radii="" drifts="" seed=7 keep=0 publish=""
+radii="" drifts="" seed=7 keep=0 publish="" summary_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
@@ -86,6 +87,7 @@ while [ $# -gt 0 ]; do
     --seed) seed="$2"; shift ;;
     --keep-images) keep=1 ;;
     --publish) publish="$2"; shift ;;
+    --summary-only) summary_only=1 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "sweep: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -112,50 +114,52 @@ out="$(cd "$out" && pwd)"
 
 cases="$out/cases.tsv"
 manifest="$out/sweep.tsv"
-: >"$cases"
-printf 'experiment\tmap\tscenario\tradius_m\tdrift\trun_dir\n' >"$manifest"
-
-add_case() {  # id experiment maps scenario radius_m drift sim_args
-  printf '%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$7" "$keep" >>"$cases"
-  for map in ${3//,/ }; do
-    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$map" "$4" "$5" "$6" "runs/$1/$map" >>"$manifest"
-  done
-}
-
-if [[ ",$only," == *",sizes,"* ]]; then
-  for r_cm in $radii; do
-    # Rocks of radius r (height r when unburied) beside the path, kept 15 cm clear of it,
-    # within reach of the finest layers while the rover drives past them.
-    read -r r x0 x1 y count < <(awk -v rc="$r_cm" 'BEGIN {
-      r = rc / 100; x0 = 0.3 + r; x1 = x0 + (6 * r > 0.8 ? 6 * r : 0.8); if (x1 > 3.2) x1 = 3.2;
-      y = 0.15 + r + (2 * r > 0.3 ? 2 * r : 0.3);
-      n = r < 0.15 ? 4 : (r < 0.3 ? 3 : 2);
-      printf "%.4f %.4f %.4f %.4f %d\n", r, x0, x1, y, n }')
-    add_case "size_${r_cm}cm" sizes thesis_pwc,thesis_ccm rocks "$r" - \
-      "--scenario rocks --seed $seed $common --rock-radius $r --rock-buried 0 --rock-count $count --rock-box $x0,$x1,$y --rock-clearance 0.15 --gt-margin 3"
-  done
-fi
-if [[ ",$only," == *",craters,"* ]]; then
-  add_case craters craters thesis_pwc,thesis_ccm craters - - "--scenario craters --seed $seed $common"
-fi
-if [[ ",$only," == *",drift,"* ]]; then
-  for d_pct in $drifts; do
-    d=$(awk -v d="$d_pct" 'BEGIN { printf "%.4f", d / 100 }')
-    add_case "drift_${d_pct}pct" drift thesis_ccm sine - "$d" \
-      "--scenario sine --seed $seed $common --scatter-rocks --rock-radius 0.08 --rock-buried 0 --rock-count 4 --rock-box 0.4,1.4,0.5 --rock-clearance 0.15 --drift $d --drift-direction-deg 0"
-  done
-fi
-
-n_cases=$(wc -l <"$cases")
-echo "sweep: $n_cases cases into $out (hazmap $hazmap)"
-par=(parallel --colsep '\t' --halt never --line-buffer)
-[ -n "$jobs" ] && par+=(--jobs "$jobs")
-if [ -n "$sshlogin" ]; then
-  par+=(--sshlogin "$sshlogin" --return "$out/runs/{1}" --cleanup)
-fi
 status=0
-"${par[@]}" "$self" --job "$hazmap" "$out" {1} {2} {3} {4} {5} <"$cases" || status=$?
-[ "$status" = 0 ] || echo "sweep: $status case(s) failed; summarising the others" >&2
+if [ "$summary_only" = 0 ]; then
+  : >"$cases"
+  printf 'experiment\tmap\tscenario\tradius_m\tdrift\trun_dir\n' >"$manifest"
+
+  add_case() {  # id experiment maps scenario radius_m drift sim_args
+    printf '%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$7" "$keep" >>"$cases"
+    for map in ${3//,/ }; do
+      printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$map" "$4" "$5" "$6" "runs/$1/$map" >>"$manifest"
+    done
+  }
+
+  if [[ ",$only," == *",sizes,"* ]]; then
+    for r_cm in $radii; do
+      # Rocks of radius r (height r when unburied) beside the path, kept 15 cm clear of it,
+      # within reach of the finest layers while the rover drives past them.
+      read -r r x0 x1 y count < <(awk -v rc="$r_cm" 'BEGIN {
+        r = rc / 100; x0 = 0.3 + r; x1 = x0 + (6 * r > 0.8 ? 6 * r : 0.8); if (x1 > 3.2) x1 = 3.2;
+        y = 0.15 + r + (2 * r > 0.3 ? 2 * r : 0.3);
+        n = r < 0.15 ? 4 : (r < 0.3 ? 3 : 2);
+        printf "%.4f %.4f %.4f %.4f %d\n", r, x0, x1, y, n }')
+      add_case "size_${r_cm}cm" sizes thesis_pwc,thesis_ccm rocks "$r" - \
+        "--scenario rocks --seed $seed $common --rock-radius $r --rock-buried 0 --rock-count $count --rock-box $x0,$x1,$y --rock-clearance 0.15 --gt-margin 3"
+    done
+  fi
+  if [[ ",$only," == *",craters,"* ]]; then
+    add_case craters craters thesis_pwc,thesis_ccm craters - - "--scenario craters --seed $seed $common"
+  fi
+  if [[ ",$only," == *",drift,"* ]]; then
+    for d_pct in $drifts; do
+      d=$(awk -v d="$d_pct" 'BEGIN { printf "%.4f", d / 100 }')
+      add_case "drift_${d_pct}pct" drift thesis_ccm sine - "$d" \
+        "--scenario sine --seed $seed $common --scatter-rocks --rock-radius 0.08 --rock-buried 0 --rock-count 4 --rock-box 0.4,1.4,0.5 --rock-clearance 0.15 --drift $d --drift-direction-deg 0"
+    done
+  fi
+
+  n_cases=$(wc -l <"$cases")
+  echo "sweep: $n_cases cases into $out (hazmap $hazmap)"
+  par=(parallel --colsep '\t' --halt never --line-buffer)
+  [ -n "$jobs" ] && par+=(--jobs "$jobs")
+  if [ -n "$sshlogin" ]; then
+    par+=(--sshlogin "$sshlogin" --return "$out/runs/{1}" --cleanup)
+  fi
+  "${par[@]}" "$self" --job "$hazmap" "$out" {1} {2} {3} {4} {5} <"$cases" || status=$?
+  [ "$status" = 0 ] || echo "sweep: $status case(s) failed; summarising the others" >&2
+fi
 
 "$hazmap" evaluate --sweep "$out" --out "$out/summary" --quiet
 echo "sweep: summary in $out/summary (report.html, tables.md)"
@@ -163,7 +167,8 @@ if [ -n "$publish" ]; then
   mkdir -p "$publish"
   cp "$out/summary/"*.png "$out/summary/tables.md" "$out/summary/"*.csv "$publish/"
   # One run's own evaluation figures as an example (the 8 cm rocks, CCM, if swept).
-  example=$(ls -d "$out"/runs/size_8cm/thesis_ccm/eval "$out"/runs/*/*/eval 2>/dev/null | head -n 1)
+  example="$out/runs/size_8cm/thesis_ccm/eval"
+  [ -d "$example" ] || example=$(ls -d "$out"/runs/*/*/eval 2>/dev/null | head -n 1)
   if [ -n "$example" ]; then
     name=$(basename "$(dirname "$(dirname "$example")")")_$(basename "$(dirname "$example")")
     cp "$example/metrics_over_time.png" "$publish/example_${name}_metrics_over_time.png"

@@ -5,11 +5,13 @@
 #include <map>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/stereo/grey_pair.hpp"
 
 namespace fs = std::filesystem;
 
@@ -45,13 +47,6 @@ std::vector<cv::Point3f> board_points(const ChessboardOptions& o) {
       points.emplace_back(static_cast<float>(col * o.square_m),
                           static_cast<float>(row * o.square_m), 0.0f);
   return points;
-}
-
-Eigen::Matrix3d to_eigen3(const cv::Mat& m) {
-  Eigen::Matrix3d out;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out(r, c) = m.at<double>(r, c);
-  return out;
 }
 
 double percentile(std::vector<double> v, double q) {
@@ -101,14 +96,32 @@ bool detect_chessboard(const cv::Mat& grey8, const ChessboardOptions& o,
   return true;
 }
 
+bool detect_chessboard_pair(const cv::Mat& left_grey8, const cv::Mat& right_grey8,
+                            const ChessboardOptions& o, ChessboardView& view) {
+  view.right_px.clear();
+  if (!detect_chessboard(left_grey8, o, view.left_px) ||
+      !detect_chessboard(right_grey8, o, view.right_px)) {
+    view.left_px.clear();
+    view.right_px.clear();
+    return false;
+  }
+  // A board of 9x6 inner corners looks the same turned by 180 deg, so the detector may
+  // number the corners from opposite ends in the two images: the first-to-last corner
+  // vector must point the same way in both (the cameras are nearly parallel).
+  const cv::Point2f dl = view.left_px.back() - view.left_px.front();
+  const cv::Point2f dr = view.right_px.back() - view.right_px.front();
+  if (dl.dot(dr) < 0) std::reverse(view.right_px.begin(), view.right_px.end());
+  return true;
+}
+
 ChessboardCalibration calibrate_chessboard_pairs(const fs::path& dir, const ChessboardOptions& o) {
   std::vector<ChessboardView> views;
   std::vector<std::string> rejected;
   cv::Size size;
   cv::Mat grey_left, grey_right;
+  GreyPairConverter grey;  // colour and 10/12/16-bit boards as the stereo path sees them
   for (const ChessboardPairFiles& pair : find_chessboard_pairs(dir)) {
-    to_gray8(read_image(pair.left), grey_left);
-    to_gray8(read_image(pair.right), grey_right);
+    grey.convert(read_image(pair.left), read_image(pair.right), grey_left, grey_right);
     if (size.area() == 0) size = grey_left.size();
     for (const auto* p : {&pair.left, &pair.right}) {
       const cv::Size s = p == &pair.left ? grey_left.size() : grey_right.size();
@@ -119,20 +132,11 @@ ChessboardCalibration calibrate_chessboard_pairs(const fs::path& dir, const Ches
     }
     ChessboardView view;
     view.name = pair.name;
-    const bool found_left = detect_chessboard(grey_left, o, view.left_px);
-    const bool found_right = found_left && detect_chessboard(grey_right, o, view.right_px);
-    if (!found_left || !found_right) {
-      spdlog::info("pair {}: board not found in the {} image, skipped", pair.name,
-                   found_left ? "right" : "left");
+    if (!detect_chessboard_pair(grey_left, grey_right, o, view)) {
+      spdlog::info("pair {}: board not found in both images, skipped", pair.name);
       rejected.push_back(pair.name);
       continue;
     }
-    // A board of 9x6 inner corners looks the same turned by 180 deg, so the detector may
-    // number the corners from opposite ends in the two images: the first-to-last corner
-    // vector must point the same way in both (the cameras are nearly parallel).
-    const cv::Point2f dl = view.left_px.back() - view.left_px.front();
-    const cv::Point2f dr = view.right_px.back() - view.right_px.front();
-    if (dl.dot(dr) < 0) std::reverse(view.right_px.begin(), view.right_px.end());
     views.push_back(std::move(view));
   }
   ChessboardCalibration result = calibrate_stereo(views, size, o);
@@ -178,12 +182,12 @@ ChessboardCalibration calibrate_stereo(const std::vector<ChessboardView>& views,
   StereoCalibration& c = out.calibration;
   c.image_width = image_size.width;
   c.image_height = image_size.height;
-  c.left.K = to_eigen3(K1);
-  c.right.K = to_eigen3(K2);
+  cv::cv2eigen(K1, c.left.K);
+  cv::cv2eigen(K2, c.right.K);
   c.left.D.assign(D1.ptr<double>(), D1.ptr<double>() + D1.total());
   c.right.D.assign(D2.ptr<double>(), D2.ptr<double>() + D2.total());
-  c.R = to_eigen3(R);
-  c.T = Eigen::Vector3d(T.at<double>(0), T.at<double>(1), T.at<double>(2));
+  cv::cv2eigen(R, c.R);
+  cv::cv2eigen(T, c.T);
   validate(c, "calibration");
   return out;
 }

@@ -1,19 +1,13 @@
 #include "hazmap/camera/rectifier.hpp"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "hazmap/core/error.hpp"
 
 namespace hazmap {
 namespace {
-
-cv::Mat to_cv(const Eigen::Matrix3d& m) {
-  cv::Mat out(3, 3, CV_64F);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out.at<double>(r, c) = m(r, c);
-  return out;
-}
 
 cv::Mat distortion_row(const std::vector<double>& d) {
   return d.empty() ? cv::Mat() : cv::Mat(d, true).reshape(1, 1);
@@ -32,13 +26,13 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
     valid_roi_ = valid_roi_right_ = cv::Rect(0, 0, size_.width, size_.height);
     return;
   }
-  K1_ = to_cv(calib.left.K);
-  K2_ = to_cv(calib.right.K);
+  cv::eigen2cv(calib.left.K, K1_);
+  cv::eigen2cv(calib.right.K, K2_);
   D1_ = distortion_row(calib.left.D);
   D2_ = distortion_row(calib.right.D);
-  const cv::Mat R = to_cv(calib.R);
-  const cv::Mat T = (cv::Mat_<double>(3, 1) << calib.T.x(), calib.T.y(), calib.T.z());
-  cv::Mat Q;
+  cv::Mat R, T, Q;
+  cv::eigen2cv(calib.R, R);
+  cv::eigen2cv(calib.T, T);
   cv::stereoRectify(K1_, D1_, K2_, D2_, size_, R, T, R1_cv_, R2_cv_, P1_, P2_, Q,
                     cv::CALIB_ZERO_DISPARITY, alpha, size_, &valid_roi_, &valid_roi_right_);
   cv::initUndistortRectifyMap(K1_, D1_, R1_cv_, P1_, size_, CV_16SC2, map_left_x_, map_left_y_);
@@ -48,8 +42,7 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
   geometry_.baseline_m = -P2_.at<double>(0, 3) / geometry_.focal_px;
   geometry_.cx_px = P1_.at<double>(0, 2);
   geometry_.cy_px = P1_.at<double>(1, 2);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R1_(r, c) = R1_cv_.at<double>(r, c);
+  cv::cv2eigen(R1_cv_, R1_);
   if (!(geometry_.baseline_m > 0))
     throw Error("calibration: the right camera is not to the right of the left one (T.x must be "
                 "negative)");

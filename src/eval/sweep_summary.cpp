@@ -51,13 +51,14 @@ struct LayerRow {
   std::string layer;
   double resolution_m = 0, h_min_m = 0;
   std::string rule;
-  double known_m2 = 0, gt_hazard_known_m2 = 0, missed_m2 = 0, false_alarm_m2 = 0;
+  double known_m2 = 0, gt_hazard_m2 = 0, gt_hazard_known_m2 = 0, missed_m2 = 0, false_alarm_m2 = 0;
   double sq_sum = 0;  ///< rms^2 * samples
   double samples = 0;
   double unknown_weighted = 0, extent_m2 = 0;
 
   void add(const LayerRow& o) {
     known_m2 += o.known_m2;
+    gt_hazard_m2 += o.gt_hazard_m2;
     gt_hazard_known_m2 += o.gt_hazard_known_m2;
     missed_m2 += o.missed_m2;
     false_alarm_m2 += o.false_alarm_m2;
@@ -68,6 +69,10 @@ struct LayerRow {
   }
   double missed_of_hazard() const {
     return gt_hazard_known_m2 > 0 ? missed_m2 / gt_hazard_known_m2 : kNaN;
+  }
+  /// Share of the obstacle area (>= h_min, inside the window) the layer knows at all.
+  double known_obstacle_share() const {
+    return gt_hazard_m2 > 0 ? gt_hazard_known_m2 / gt_hazard_m2 : kNaN;
   }
   double false_alarm_fraction() const { return known_m2 > 0 ? false_alarm_m2 / known_m2 : kNaN; }
   double rms() const { return samples > 0 ? std::sqrt(sq_sum / samples) : kNaN; }
@@ -84,7 +89,7 @@ std::vector<LayerRow> read_run_summary(const fs::path& csv_path) {
   for (size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
   for (const char* k : {"layer", "resolution_m", "rule", "h_min_m", "known_m2", "extent_m2",
                         "unknown_fraction", "height_rms_m", "height_samples",
-                        "gt_hazard_known_m2", "missed_m2", "false_alarm_m2"})
+                        "gt_hazard_m2", "gt_hazard_known_m2", "missed_m2", "false_alarm_m2"})
     if (!col.count(k)) throw Error(csv_path.string() + ":1: no column '" + k + "'");
   std::vector<LayerRow> rows;
   int line_no = 1;
@@ -105,6 +110,7 @@ std::vector<LayerRow> read_run_summary(const fs::path& csv_path) {
     r.known_m2 = zero_if_nan(num("known_m2"));
     r.extent_m2 = zero_if_nan(num("extent_m2"));
     r.unknown_weighted = zero_if_nan(num("unknown_fraction")) * r.extent_m2;
+    r.gt_hazard_m2 = zero_if_nan(num("gt_hazard_m2"));
     r.gt_hazard_known_m2 = zero_if_nan(num("gt_hazard_known_m2"));
     r.missed_m2 = zero_if_nan(num("missed_m2"));
     r.false_alarm_m2 = zero_if_nan(num("false_alarm_m2"));
@@ -256,16 +262,34 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
   for (const auto& [map_name, g] : sizes) {
     std::vector<std::string> cols;
     for (double r : g.keys) cols.push_back(fmt(r * 100, "%g"));
-    for (int which = 0; which < 2; ++which) {
-      const bool missed = which == 0;
+    struct SizeTable {
+      const char* stem;
+      const char* title;
+      std::string caption;
+      double max_value;
+      double (LayerRow::*metric)() const;
+    };
+    const SizeTable tables[] = {
+        {"missed_by_size_", "missed obstacle area / known obstacle area",
+         "Missed-obstacle fraction by layer and obstacle radius, " + map_name +
+             " (share of the known obstacle area at least h_min high that the layer calls "
+             "traversable; - = the layer knows no such obstacle area)",
+         1.0, &LayerRow::missed_of_hazard},
+        {"known_obstacle_by_size_", "known obstacle area / obstacle area in the window",
+         "Share of the obstacle area (at least h_min high, inside the window) the layer knows "
+         "at all, " + map_name + " (- = no obstacle area at least h_min high)",
+         1.0, &LayerRow::known_obstacle_share},
+        {"false_alarm_by_size_", "false-alarm area / known area",
+         "False-alarm fraction of the known area by layer and obstacle radius, " + map_name, 0.2,
+         &LayerRow::false_alarm_fraction},
+    };
+    for (const SizeTable& st : tables) {
       HeatMap hm;
-      hm.title = std::string(missed ? "missed obstacle area / known obstacle area"
-                                    : "false-alarm area / known area") +
-                 ", " + map_name;
+      hm.title = std::string(st.title) + ", " + map_name;
       hm.row_label = "layer (h_min)";
       hm.col_label = "obstacle radius = height [cm]";
       hm.cols = cols;
-      hm.max_value = missed ? 1.0 : 0.2;
+      hm.max_value = st.max_value;
       std::vector<std::string> header = {"layer", "h_min [cm]"};
       for (const auto& c : cols) header.push_back(c + " cm");
       std::vector<std::vector<std::string>> rows;
@@ -275,34 +299,23 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
         std::vector<double> values;
         std::vector<std::string> row = {layer_label(info), fmt(info.h_min_m * 100, "%g")};
         for (double r : g.keys) {
-          const double v = cell_value(g, layer, r,
-                                      missed ? &LayerRow::missed_of_hazard
-                                             : &LayerRow::false_alarm_fraction);
+          const double v = cell_value(g, layer, r, st.metric);
           values.push_back(v);
           row.push_back(fmt(v, "%.2f"));
         }
         hm.values.push_back(values);
         rows.push_back(row);
       }
-      const std::string stem = std::string(missed ? "missed_by_size_" : "false_alarm_by_size_") + map_name;
+      const std::string stem = st.stem + map_name;
       write_png(out_dir / (stem + ".png"), plot_heatmap(hm));
       write_file_atomically(out_dir / (stem + ".csv"), csv_table(header, rows));
-      const std::string caption =
-          missed ? "Missed-obstacle fraction by layer and obstacle radius, " + map_name +
-                       " (0 = every known obstacle pixel of at least h_min flagged; - = no "
-                       "obstacle known to the layer)"
-                 : "False-alarm fraction of the known area by layer and obstacle radius, " + map_name;
-      md << "### " << caption << "\n\n" << md_table(header, rows) << "\n![" << stem << "](" << stem
-         << ".png)\n\n";
-      HtmlSection s;
-      s.heading = caption;
-      HtmlTable t;
-      t.id = stem;
-      t.header = header;
-      t.rows = rows;
-      s.tables.push_back(t);
-      s.figures.push_back({stem + ".png", caption});
-      page.sections.push_back(s);
+      md << "### " << st.caption << "\n\n" << md_table(header, rows) << "\n![" << stem << "]("
+         << stem << ".png)\n\n";
+      HtmlSection sec;
+      sec.heading = st.caption;
+      sec.tables.push_back({stem, "", header, rows, {}});
+      sec.figures.push_back({stem + ".png", st.caption});
+      page.sections.push_back(sec);
     }
     // Smallest radius from which every larger swept radius is detected.
     for (const std::string& layer : g.layers) {
@@ -431,7 +444,7 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
       write_png(out_dir / ("drift_false_alarm_" + map_name + ".png"), plot_lines(fa_chart));
     }
     // Column headers name the drift values of the first map (all drift maps share them).
-    std::vector<std::string> h = {"map", "layer, metric"};
+    std::vector<std::string> h = {"map", "layer: metric"};
     for (double d : drift.begin()->second.keys) h.push_back(fmt(d * 100, "%g") + " % drift");
     write_file_atomically(out_dir / "drift.csv", csv_table(h, rows));
     md << "### Missed obstacles and false alarms against pose drift (sine scenario)\n\n"

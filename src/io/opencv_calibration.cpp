@@ -2,6 +2,7 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include "hazmap/core/error.hpp"
 
@@ -40,13 +41,12 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::filesystem::path& path
   return out;
 }
 
-Eigen::Matrix3d camera_matrix(const cv::Mat& m, const std::filesystem::path& path,
-                              const std::string& key) {
+Eigen::Matrix3d matrix3(const cv::Mat& m, const std::filesystem::path& path,
+                        const std::string& key) {
   if (m.rows != 3 || m.cols != 3) fail(path, key, "expected a 3x3 matrix");
-  Eigen::Matrix3d K;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) K(r, c) = m.at<double>(r, c);
-  return K;
+  Eigen::Matrix3d out;
+  cv::cv2eigen(m, out);
+  return out;
 }
 
 std::vector<double> distortion(const cv::Mat& m, const std::filesystem::path& path,
@@ -68,9 +68,9 @@ StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& pa
                                                  const std::filesystem::path& extrinsics) {
   const cv::FileStorage fs = open(path);
   StereoCalibration c;
-  c.left.K = camera_matrix(read_matrix(fs, path, "M1"), path, "M1");
+  c.left.K = matrix3(read_matrix(fs, path, "M1"), path, "M1");
   c.left.D = distortion(read_matrix(fs, path, "D1"), path, "D1");
-  c.right.K = camera_matrix(read_matrix(fs, path, "M2"), path, "M2");
+  c.right.K = matrix3(read_matrix(fs, path, "M2"), path, "M2");
   c.right.D = distortion(read_matrix(fs, path, "D2"), path, "D2");
 
   const std::filesystem::path& ext_path = extrinsics.empty() ? path : extrinsics;
@@ -84,7 +84,7 @@ StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& pa
   } else {
     fail(ext_path, "R", "expected a 3x3 rotation matrix or a Rodrigues vector");
   }
-  c.R = camera_matrix(R33, ext_path, "R");
+  c.R = matrix3(R33, ext_path, "R");
   const cv::Mat T = read_matrix(ext_fs, ext_path, "T");
   if (T.total() != 3) fail(ext_path, "T", "expected 3 numbers");
   c.T = Eigen::Vector3d(T.at<double>(0), T.at<double>(1), T.at<double>(2)) * options.T_to_m;

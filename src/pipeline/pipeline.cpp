@@ -46,10 +46,11 @@ void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmH
 
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(config),
+      grey_(config.stereo.input_bits),
       rectifier_(calibration, config.stereo.rectify_alpha),
       matcher_(config.stereo),
       builder_(config.stereo, config.sensor, rectifier_.geometry(), rectifier_.R1(),
-               calibration.T_B_C, rectifier_.valid_roi()),
+               calibration.T_B_C, rectifier_.valid_roi(), rectifier_.valid_roi_right()),
       map_(config.map, config.rules, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       views_(config.map.layers.size()) {
@@ -64,8 +65,8 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
                               const PoseNoise& noise) {
   FrameReport report;
   auto t = Clock::now();
-  to_gray8(left, grey_left_);
-  to_gray8(right, grey_right_);
+  // One scale for both images: 10/12-bit data in 16-bit PNGs is not crushed by 1/256.
+  grey_.convert(left, right, grey_left_, grey_right_);
   rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
   report.ms.rectify_ms = ms_since(t);
 

@@ -63,11 +63,7 @@ TEST(ChessboardCalibration, FitsAndRectifiesTheRealPairs) {
     rectifier.rectify(grey_left, grey_right, rect_left, rect_right);
     ChessboardView view;
     view.name = pair.name;
-    ASSERT_TRUE(detect_chessboard(rect_left, board_9x6(), view.left_px)) << pair.name;
-    ASSERT_TRUE(detect_chessboard(rect_right, board_9x6(), view.right_px)) << pair.name;
-    const cv::Point2f dl = view.left_px.back() - view.left_px.front();
-    const cv::Point2f dr = view.right_px.back() - view.right_px.front();
-    if (dl.dot(dr) < 0) std::reverse(view.right_px.begin(), view.right_px.end());
+    ASSERT_TRUE(detect_chessboard_pair(rect_left, rect_right, board_9x6(), view)) << pair.name;
     rectified.push_back(view);
   }
   const RowAlignment detected = row_alignment(rectified);

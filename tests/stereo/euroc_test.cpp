@@ -3,7 +3,9 @@
 // into our layout, and the floor height in one frame, which checks distortion,
 // rectification, R1, baseline and focal length together on real images.
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -43,9 +45,9 @@ TEST(Euroc, CalibrationFromKalibrSensorFiles) {
   EXPECT_DOUBLE_EQ(c.right.K(0, 2), 379.999);
   ASSERT_EQ(c.left.D.size(), 4u);
   EXPECT_DOUBLE_EQ(c.left.D[0], -0.28340811);
-  // README_SOURCE: T_cam0_cam1 translation (0.110074, -0.000157, 0.000889) m, ~0.8 deg.
-  // Ours is its inverse (x_right = R x_left + T), so -R T_cam0_cam1 ... checked by norm
-  // and by mapping the right camera centre back into the left frame.
+  // README_SOURCE: T_cam0_cam1 has translation (0.110074, -0.000157, 0.000889) m, i.e.
+  // the right camera centre in the left frame, and turns by ~0.8 deg. Ours maps the
+  // other way (x_right = R x_left + T): that centre is -R^T T.
   const Eigen::Vector3d right_centre_in_left = -c.R.transpose() * c.T;
   EXPECT_NEAR(right_centre_in_left.x(), 0.110074, 1e-6);
   EXPECT_NEAR(right_centre_in_left.y(), -0.000157, 1e-6);

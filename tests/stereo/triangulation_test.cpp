@@ -12,6 +12,7 @@
 #include "hazmap/io/images.hpp"
 #include "hazmap/stereo/disparity.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
+#include "stereo/stereo_scene.hpp"
 #include "test_support.hpp"
 
 namespace hazmap {
@@ -19,15 +20,8 @@ namespace {
 
 /// Smooth random texture (blurred noise at two scales), 8 bit.
 cv::Mat texture(int w, int h, int seed) {
-  cv::RNG rng(static_cast<uint64_t>(seed));
-  cv::Mat fine(h, w, CV_32F), coarse(h / 8, w / 8, CV_32F);
-  rng.fill(fine, cv::RNG::UNIFORM, 0.0, 1.0);
-  rng.fill(coarse, cv::RNG::UNIFORM, 0.0, 1.0);
-  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 1.2);
-  cv::resize(coarse, coarse, fine.size(), 0, 0, cv::INTER_CUBIC);
-  cv::Mat sum = 0.6 * fine + 0.4 * coarse, out;
-  cv::normalize(sum, sum, 20, 235, cv::NORM_MINMAX);
-  sum.convertTo(out, CV_8U);
+  cv::Mat out;
+  testing::smooth_texture(w, h, seed).convertTo(out, CV_8U);
   return out;
 }
 

@@ -49,6 +49,12 @@ struct ChessboardView {
   std::vector<cv::Point2f> right_px;
 };
 
+/// Detects the board in both images of a pair (nearly parallel cameras) and numbers the
+/// right corners in the left image's order. Returns false unless both show the whole
+/// board.
+bool detect_chessboard_pair(const cv::Mat& left_grey8, const cv::Mat& right_grey8,
+                            const ChessboardOptions& options, ChessboardView& view);
+
 struct ChessboardCalibration {
   StereoCalibration calibration;  ///< T_body_left = identity
   double rms_px = 0.0;            ///< cv::stereoCalibrate RMS over both images of all views

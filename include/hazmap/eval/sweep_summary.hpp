@@ -11,6 +11,7 @@
 //
 // Written into the output folder:
 //   missed_by_size_<map>.csv/.png               missed-obstacle fraction, layer x radius
+//   known_obstacle_by_size_<map>.csv/.png       share of the obstacle area the layer knows
 //   false_alarm_by_size_<map>.csv/.png          false-alarm fraction, layer x radius
 //   detectable_size.csv                         per map and layer: smallest radius from
 //                                               which every larger radius is found

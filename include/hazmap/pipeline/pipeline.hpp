@@ -13,6 +13,7 @@
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/stereo/disparity.hpp"
+#include "hazmap/stereo/grey_pair.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
 
 namespace hazmap {
@@ -75,6 +76,7 @@ class Pipeline {
   void analyse_hazards();
 
   Config config_;
+  GreyPairConverter grey_;
   Rectifier rectifier_;
   DisparityMatcher matcher_;
   PointCloudBuilder builder_;

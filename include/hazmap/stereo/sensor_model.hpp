@@ -1,7 +1,8 @@
 #pragma once
-// Triangulation and the per-point covariance of a rectified stereo pair (SPEC 3.3, 4).
-// Pure functions of their inputs; frame C' is the rectified left camera (x right,
-// y down, z forward), pixels (u, v), disparity d in pixels.
+// Triangulation, the per-point covariance of a rectified stereo pair (SPEC 3.3, 4) and
+// the CCM weight derived from it. Pure functions of their inputs; frame C' is the
+// rectified left camera (x right, y down, z forward), pixels (u, v), disparity d in
+// pixels.
 
 #include <cmath>
 
