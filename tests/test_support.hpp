@@ -33,6 +33,9 @@ inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
 
 }  // namespace hazmap::testing
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <fstream>
 
 #include <opencv2/core.hpp>
@@ -41,6 +44,24 @@ inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
 #include <opencv2/core/base.hpp>
 
 namespace hazmap::testing {
+
+/// What a shell command printed (as its own redirections direct) and its exit code.
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+/// Runs `command` through the shell and captures its standard output.
+inline CommandResult run_command(const std::string& command) {
+  CommandResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
 
 /// Writes a tiny but complete sequence (random-texture 64 x 48 PNG pairs, a rectified
 /// calibration and straight-line poses) for input-handling tests.

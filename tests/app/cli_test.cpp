@@ -1,8 +1,6 @@
 // Runs the real `hazmap` executable and checks exit codes, the one-line errors and the
 // files it writes.
 
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -15,22 +13,11 @@
 namespace hazmap {
 namespace {
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string stderr_text;
-};
+using testing::CommandResult;
 
-/// Runs the CLI with `args`; captures stderr (stdout is discarded).
+/// Runs the CLI with `args`; captures stderr (stdout is discarded) into `output`.
 CommandResult run_cli(const std::string& args) {
-  const std::string cmd = std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  CommandResult r;
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.stderr_text.append(buf, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return testing::run_command(std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null");
 }
 
 std::string tiny_run_args(const testing::TempDir& dir) {
@@ -62,8 +49,8 @@ TEST(Cli, RunWritesEveryOutputOfEveryFrame) {
   testing::TempDir dir;
   testing::write_tiny_sequence(dir / "seq", 3);
   const CommandResult r = run_cli(tiny_run_args(dir) + " --quiet");
-  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
-  EXPECT_EQ(r.stderr_text, "");  // --quiet: no progress
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "");  // --quiet: no progress
   for (const char* frame : {"000000", "000001", "000002"}) {
     const auto f = dir / "out/frames" / frame;
     for (const char* file : {"L0_hazard.png", "L0_height.png", "L0_height.jdem",
@@ -82,11 +69,11 @@ TEST(Cli, ProgressShowsFrameCountPointsAndTime) {
   testing::TempDir dir;
   testing::write_tiny_sequence(dir / "seq", 2);
   const CommandResult r = run_cli(tiny_run_args(dir));
-  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
-  EXPECT_NE(r.stderr_text.find("frame 1/2 000000: "), std::string::npos) << r.stderr_text;
-  EXPECT_NE(r.stderr_text.find("frame 2/2 000001: "), std::string::npos);
-  EXPECT_NE(r.stderr_text.find(" points, "), std::string::npos);
-  EXPECT_NE(r.stderr_text.find(" ms ("), std::string::npos);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("frame 1/2 000000: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frame 2/2 000001: "), std::string::npos);
+  EXPECT_NE(r.output.find(" points, "), std::string::npos);
+  EXPECT_NE(r.output.find(" ms ("), std::string::npos);
 }
 
 TEST(Cli, MissingRightImageStopsWithOneLineNamingTheFile) {
@@ -95,9 +82,9 @@ TEST(Cli, MissingRightImageStopsWithOneLineNamingTheFile) {
   std::filesystem::remove(dir / "seq/right/000002.png");
   const CommandResult r = run_cli(tiny_run_args(dir));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(count_lines(r.stderr_text), 1) << r.stderr_text;
-  EXPECT_NE(r.stderr_text.find((dir / "seq/right/000002.png").string()), std::string::npos)
-      << r.stderr_text;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "seq/right/000002.png").string()), std::string::npos)
+      << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out/frames"));
 }
 
@@ -107,10 +94,10 @@ TEST(Cli, PosesLackingAFrameStopWithOneLineNamingTheFile) {
   std::ofstream(dir / "seq/poses.txt") << "000000 0 0 0 0 0 0 0 1\n000002 2 0 0 0 0 0 0 1\n";
   const CommandResult r = run_cli(tiny_run_args(dir));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(count_lines(r.stderr_text), 1) << r.stderr_text;
-  EXPECT_NE(r.stderr_text.find((dir / "seq/poses.txt").string() + ": no pose for frame '000001'"),
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "seq/poses.txt").string() + ": no pose for frame '000001'"),
             std::string::npos)
-      << r.stderr_text;
+      << r.output;
 }
 
 TEST(Cli, FailedRunLeavesEarlierOutputsIntact) {
@@ -124,7 +111,7 @@ TEST(Cli, FailedRunLeavesEarlierOutputsIntact) {
   std::filesystem::remove(dir / "seq/calibration.yaml");
   const CommandResult r = run_cli(tiny_run_args(dir));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.stderr_text.find("calibration.yaml: cannot open calibration file"), std::string::npos);
+  EXPECT_NE(r.output.find("calibration.yaml: cannot open calibration file"), std::string::npos);
   std::ifstream after_in(jdem);
   std::stringstream after;
   after << after_in.rdbuf();
@@ -140,8 +127,8 @@ TEST(Cli, BadConfigKeyIsNamed) {
   testing::write_tiny_sequence(dir / "seq", 1);
   const CommandResult r = run_cli(tiny_run_args(dir) + " --set stereo.colour=1");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(count_lines(r.stderr_text), 1);
-  EXPECT_NE(r.stderr_text.find("unknown key 'stereo.colour'"), std::string::npos) << r.stderr_text;
+  EXPECT_EQ(count_lines(r.output), 1);
+  EXPECT_NE(r.output.find("unknown key 'stereo.colour'"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -1,8 +1,6 @@
 // `hazmap simulate` on the command line: the new flags reach the simulator, and bad
 // values stop with one line naming the flag or option (exit 2 for usage, 1 for values).
 
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <string>
 
@@ -16,21 +14,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;  ///< stderr and stdout
-};
+using hazmap::testing::CommandResult;
 
+/// Runs `hazmap simulate ARGS`; captures stdout and stderr.
 CommandResult simulate(const std::string& args) {
-  const std::string cmd = std::string(HAZMAP_CLI) + " simulate " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  CommandResult r;
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return hazmap::testing::run_command(std::string(HAZMAP_CLI) + " simulate " + args + " 2>&1");
 }
 
 TEST(SimulateCli, EveryFeatureFromTheCommandLine) {
