@@ -37,6 +37,7 @@ inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
 
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -44,6 +45,14 @@ inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
 #include <opencv2/core/base.hpp>
 
 namespace hazmap::testing {
+
+/// The whole content of a file, bytes as they are ("" if it cannot be opened).
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
 
 /// What a shell command printed (as its own redirections direct) and its exit code.
 struct CommandResult {

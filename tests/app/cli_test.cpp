@@ -1,11 +1,11 @@
 // Runs the real `hazmap` executable and checks exit codes, the one-line errors and the
 // files it writes.
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <fstream>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "hazmap/io/jdem.hpp"
 #include "test_support.hpp"
@@ -53,9 +53,8 @@ TEST(Cli, RunWritesEveryOutputOfEveryFrame) {
   EXPECT_EQ(r.output, "");  // --quiet: no progress
   for (const char* frame : {"000000", "000001", "000002"}) {
     const auto f = dir / "out/frames" / frame;
-    for (const char* file : {"L0_hazard.png", "L0_height.png", "L0_height.jdem",
-                             "L0_variance.jdem", "L0_hazard.jdem", "fused_hazard.png",
-                             "fused_hazard.jdem"})
+    for (const char* file : {"L0_hazard.png", "L0_height.png", "L0_height.jdem", "L0_variance.jdem",
+                             "L0_hazard.jdem", "fused_hazard.png", "fused_hazard.jdem"})
       EXPECT_TRUE(std::filesystem::is_regular_file(f / file)) << f / file;
     const JdemGrid h = read_jdem(f / "L0_height.jdem");
     EXPECT_EQ(h.rows, 16);
@@ -83,8 +82,7 @@ TEST(Cli, MissingRightImageStopsWithOneLineNamingTheFile) {
   const CommandResult r = run_cli(tiny_run_args(dir));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_NE(r.output.find((dir / "seq/right/000002.png").string()), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find((dir / "seq/right/000002.png").string()), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out/frames"));
 }
 
@@ -105,21 +103,14 @@ TEST(Cli, FailedRunLeavesEarlierOutputsIntact) {
   testing::write_tiny_sequence(dir / "seq", 1);
   ASSERT_EQ(run_cli(tiny_run_args(dir) + " --quiet").exit_code, 0);
   const auto jdem = dir / "out/frames/000000/L0_height.jdem";
-  std::ifstream before_in(jdem);
-  std::stringstream before;
-  before << before_in.rdbuf();
+  const std::string before = testing::read_text(jdem);
   std::filesystem::remove(dir / "seq/calibration.yaml");
   const CommandResult r = run_cli(tiny_run_args(dir));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("calibration.yaml: cannot open calibration file"), std::string::npos);
-  std::ifstream after_in(jdem);
-  std::stringstream after;
-  after << after_in.rdbuf();
-  EXPECT_EQ(before.str(), after.str());
-  std::ifstream log(dir / "out/run.log");
-  std::stringstream log_text;
-  log_text << log.rdbuf();
-  EXPECT_NE(log_text.str().find("done: 1 frames"), std::string::npos);  // first run's log kept
+  EXPECT_EQ(before, testing::read_text(jdem));
+  EXPECT_NE(testing::read_text(dir / "out/run.log").find("done: 1 frames"),
+            std::string::npos);  // first run's log kept
 }
 
 TEST(Cli, BadConfigKeyIsNamed) {

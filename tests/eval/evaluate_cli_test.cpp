@@ -17,13 +17,6 @@ namespace {
 
 using hazmap::testing::TempDir;
 
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int run_cli(const std::string& args, const std::filesystem::path& err) {
   const int status = std::system((std::string(HAZMAP_CLI) + " " + args + " > /dev/null 2> " +
                                   err.string())
@@ -46,15 +39,15 @@ TEST(EvaluateCli, WritesItsOutputsAndSummarisesASweep) {
                         (dir / "seq").string() + " --error-maps all --quiet",
                     dir / "err.txt"),
             0)
-      << read_all(dir / "err.txt");
+      << testing::read_text(dir / "err.txt");
   EXPECT_TRUE(std::filesystem::exists(dir / "runs" / "a" / "eval" / "errors_000000.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "runs" / "a" / "eval" / "metrics.json"));
 
   std::ofstream(dir / "sweep.tsv") << "experiment\tmap\tscenario\tradius_m\tdrift\trun_dir\n"
                                    << "sizes\toracle\trocks\t0.1\t-\truns/a\n";
   ASSERT_EQ(run_cli("evaluate --sweep " + dir.path().string() + " --quiet", dir / "err.txt"), 0)
-      << read_all(dir / "err.txt");
-  const std::string md = read_all(dir / "summary" / "tables.md");
+      << testing::read_text(dir / "err.txt");
+  const std::string md = testing::read_text(dir / "summary" / "tables.md");
   // Layer L0 (h_min 3 cm) flags the whole 10 cm rock: nothing missed.
   EXPECT_NE(md.find("| L0 4 cm | 3 | 0.00 |"), std::string::npos) << md;
 }
@@ -62,12 +55,12 @@ TEST(EvaluateCli, WritesItsOutputsAndSummarisesASweep) {
 TEST(EvaluateCli, BadInputGivesOneLineAndExitCode) {
   TempDir dir;
   EXPECT_EQ(run_cli("evaluate --run " + (dir / "nothing").string(), dir / "err.txt"), 2);
-  EXPECT_NE(read_all(dir / "err.txt").find("--sequence"), std::string::npos);
+  EXPECT_NE(testing::read_text(dir / "err.txt").find("--sequence"), std::string::npos);
   EXPECT_EQ(run_cli("evaluate --run " + (dir / "nothing").string() + " --sequence " +
                         dir.path().string(),
                     dir / "err.txt"),
             1);
-  const std::string err = read_all(dir / "err.txt");
+  const std::string err = testing::read_text(dir / "err.txt");
   EXPECT_NE(err.find("summary.json"), std::string::npos) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }

@@ -22,13 +22,6 @@ namespace {
 
 using hazmap::testing::TempDir;
 
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string chromium_command(const std::filesystem::path& profile) {
   return "timeout 180 chromium --headless --no-sandbox --disable-gpu "
          "--disable-background-networking --disable-component-update --disable-sync "
@@ -67,15 +60,15 @@ TEST(ReportBrowser, ChromiumShowsTheSummaryTable) {
                          dom.string() + " 2> " + (dir / "dom.err").string())
                             .c_str()),
             0)
-      << read_all(dir / "dom.err");
+      << testing::read_text(dir / "dom.err");
   ASSERT_EQ(std::system((chromium_command(dir / "profile_shot") + " --window-size=1200,900 "
                          "--screenshot=" + shot.string() + " '" + url + "' > /dev/null 2> " +
                          (dir / "shot.err").string())
                             .c_str()),
             0)
-      << read_all(dir / "shot.err");
+      << testing::read_text(dir / "shot.err");
 
-  const std::string html = read_all(dom);
+  const std::string html = testing::read_text(dom);
   EXPECT_NE(html.find("<table id=\"summary\">"), std::string::npos) << html.substr(0, 2000);
   // The Kalman layer's height RMS as the table prints it (cm, 3 decimals).
   char rms[32];

@@ -16,13 +16,6 @@ namespace {
 
 using hazmap::testing::TempDir;
 
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 const char* kHeader =
     "frames,layer,resolution_m,rule,h_min_m,extent_m2,known_m2,unknown_fraction,height_rms_m,"
     "height_samples,gt_hazard_m2,gt_hazard_known_m2,missed_m2,missed_fraction,missed_of_hazard,"
@@ -74,18 +67,18 @@ TEST(SweepSummary, TablesHeatMapsAndDetectableSizes) {
                         "false_alarm_by_size_thesis_ccm.png", "detectable_size.csv",
                         "craters_rms.csv", "craters_rms.png", "tables.md", "report.html"})
     EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
-  const std::string missed_csv = read_all(out / "missed_by_size_thesis_ccm.csv");
+  const std::string missed_csv = testing::read_text(out / "missed_by_size_thesis_ccm.csv");
   EXPECT_NE(missed_csv.find("L1 8 cm,6,0.90,0.02,0.00"), std::string::npos) << missed_csv;
-  const std::string detect = read_all(out / "detectable_size.csv");
+  const std::string detect = testing::read_text(out / "detectable_size.csv");
   EXPECT_NE(detect.find("thesis_ccm,L0 4 cm ccm,3,3"), std::string::npos) << detect;
   EXPECT_NE(detect.find("thesis_ccm,L1 8 cm ccm,6,6"), std::string::npos) << detect;
-  const std::string md = read_all(out / "tables.md");
+  const std::string md = testing::read_text(out / "tables.md");
   EXPECT_NE(md.find("| 4 cm thesis_pwc | 0.500 | 8 cm thesis_ccm | 0.400 | yes |"), std::string::npos)
       << md;
   const cv::Mat heat = cv::imread((out / "missed_by_size_thesis_ccm.png").string());
   ASSERT_FALSE(heat.empty());
   EXPECT_GT(heat.cols, 3 * 44);
-  const std::string html = read_all(out / "report.html");
+  const std::string html = testing::read_text(out / "report.html");
   EXPECT_NE(html.find("missing"), std::string::npos);  // the failed job is listed
   EXPECT_NE(html.find("<a href=\"../runs/ccm_0/eval/report.html\">"), std::string::npos);
 }

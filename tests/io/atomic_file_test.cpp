@@ -11,19 +11,12 @@
 namespace hazmap {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(AtomicFile, WritesCreatesFoldersAndLeavesNoTemporaries) {
   testing::TempDir dir;
   const auto path = dir / "a/b/out.txt";
   write_file_atomically(path, std::string("first"));
   write_file_atomically(path, std::string("second"));
-  EXPECT_EQ(slurp(path), "second");
+  EXPECT_EQ(testing::read_text(path), "second");
   int entries = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(path.parent_path())) ++entries;
   EXPECT_EQ(entries, 1);
@@ -36,7 +29,7 @@ TEST(AtomicFile, FailedWriteKeepsTheOldFile) {
   // A folder where the temporary file would go cannot be written into: make the
   // destination a path whose parent is a regular file.
   EXPECT_THROW(write_file_atomically(path / "child.txt", std::string("x")), Error);
-  EXPECT_EQ(slurp(path), "precious");
+  EXPECT_EQ(testing::read_text(path), "precious");
 }
 
 }  // namespace

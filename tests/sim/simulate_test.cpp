@@ -31,19 +31,12 @@ namespace fs = std::filesystem;
 constexpr double kTestScale = 0.1;  // 160 x 130 px: fast
 constexpr double kWrittenM = 1e-11;  // values rounded to 12 significant digits
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-
 // Relative path -> content of every regular file below `root`.
 std::map<std::string, std::string> read_tree(const fs::path& root) {
   std::map<std::string, std::string> files;
   for (const auto& entry : fs::recursive_directory_iterator(root)) {
     if (entry.is_regular_file()) {
-      files[fs::relative(entry.path(), root).string()] = read_file(entry.path());
+      files[fs::relative(entry.path(), root).string()] = testing::read_text(entry.path());
     }
   }
   return files;
@@ -220,7 +213,7 @@ TEST(SimulateSequence, EveryFeatureIsDeterministic) {
 
 // Pose lines (name -> T_W_B and noise) via the project's own reader.
 std::vector<std::pair<std::string, FramePose>> read_poses(const fs::path& path) {
-  return parse_poses(read_file(path), path.string());
+  return parse_poses(testing::read_text(path), path.string());
 }
 
 TEST(SimulateSequence, DriftedPosesAreOffByTheFractionOfDistanceTravelled) {

@@ -20,11 +20,6 @@
 namespace hazmap {
 namespace {
 
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(DisparityImage, SixteenBitKeepsFixedPointAndZeroIsInvalid) {
   cv::Mat d = (cv::Mat_<int16_t>(1, 5) << -16, 0, 16 * 4, 16 * 4 + 1, 16 * 100 + 7);
   cv::Mat u16;
@@ -76,13 +71,13 @@ TEST(StereoCommand, WritesImagesDisparityAndCloudPerFrame) {
   EXPECT_EQ(colour.type(), CV_8UC3);
   EXPECT_EQ(colour.size(), disparity.size());
 
-  const std::string ply = read_all(dir / "cloud.ply");
+  const std::string ply = testing::read_text(dir / "cloud.ply");
   EXPECT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
   EXPECT_NE(ply.find("element vertex " + std::to_string(front_end.cloud().size()) + "\n"),
             std::string::npos);
   const size_t header_end = ply.find("end_header\n") + 11;
   EXPECT_EQ(ply.size() - header_end, front_end.cloud().size() * (9 * 4 + 3));
-  const std::string summary = read_all(out / "stereo_summary.json");
+  const std::string summary = testing::read_text(out / "stereo_summary.json");
   EXPECT_NE(summary.find("\"frames\": 2"), std::string::npos) << summary;
 }
 
@@ -95,7 +90,7 @@ TEST(StereoCommand, BadInputLeavesNoOutput) {
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 1);
-  EXPECT_NE(read_all(tmp / "err.txt").find("missing: sequence folder not found"), std::string::npos);
+  EXPECT_NE(testing::read_text(tmp / "err.txt").find("missing: sequence folder not found"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(tmp / "out"));
 }
 
