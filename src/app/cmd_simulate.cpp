@@ -104,6 +104,26 @@ void int_range(const Args& args, const std::string& flag, int& lo, int& hi) {
   hi = static_cast<int>(b);
 }
 
+/// The flags a rock field and a crater field share (--PREFIX-count, -density, -radius,
+/// -sizes, -exponent, -box); both option structs name these members alike.
+template <class Field>
+void parse_field_flags(const Args& args, const std::string& prefix, Field& field) {
+  const std::string p = prefix + "-";
+  if (args.has(p + "count")) int_range(args, p + "count", field.min_count, field.max_count);
+  if (args.has(p + "density")) field.density_per_m2 = args.number(p + "density");
+  if (args.has(p + "radius")) range(args, p + "radius", field.min_radius_m, field.max_radius_m);
+  if (args.has(p + "sizes"))
+    field.size_distribution =
+        sim::parse_size_distribution(args.get(p + "sizes"), "--" + p + "sizes");
+  if (args.has(p + "exponent")) field.power_law_exponent = args.number(p + "exponent");
+  if (args.has(p + "box")) {
+    const auto box = numbers(args, p + "box", 3);
+    field.min_x_m = box[0];
+    field.max_x_m = box[1];
+    field.max_abs_y_m = box[2];
+  }
+}
+
 }  // namespace
 
 int cmd_simulate(int argc, char** argv) {
@@ -145,40 +165,14 @@ int cmd_simulate(int argc, char** argv) {
     options.sine.direction_rad = args.number("sine-direction-deg") * M_PI / 180.0;
   if (args.has("noise-amplitude")) options.ground_noise.amplitude_m = args.number("noise-amplitude");
 
-  auto& rocks = options.rock_field;
-  if (args.has("rock-count")) int_range(args, "rock-count", rocks.min_count, rocks.max_count);
-  if (args.has("rock-density")) rocks.density_per_m2 = args.number("rock-density");
-  if (args.has("rock-radius")) range(args, "rock-radius", rocks.min_radius_m, rocks.max_radius_m);
-  if (args.has("rock-sizes"))
-    rocks.size_distribution = sim::parse_size_distribution(args.get("rock-sizes"), "--rock-sizes");
-  if (args.has("rock-exponent")) rocks.power_law_exponent = args.number("rock-exponent");
-  if (args.has("rock-box")) {
-    const auto box = numbers(args, "rock-box", 3);
-    rocks.min_x_m = box[0];
-    rocks.max_x_m = box[1];
-    rocks.max_abs_y_m = box[2];
-  }
-  if (args.has("rock-buried")) rocks.max_buried_fraction = args.number("rock-buried");
+  parse_field_flags(args, "rock", options.rock_field);
+  if (args.has("rock-buried")) options.rock_field.max_buried_fraction = args.number("rock-buried");
   if (args.has("rock-clearance")) options.rock_path_clearance_m = args.number("rock-clearance");
   options.scatter_rocks = args.on("scatter-rocks");
 
-  auto& craters = options.crater_field;
-  if (args.has("crater-count")) int_range(args, "crater-count", craters.min_count, craters.max_count);
-  if (args.has("crater-density")) craters.density_per_m2 = args.number("crater-density");
-  if (args.has("crater-radius"))
-    range(args, "crater-radius", craters.min_radius_m, craters.max_radius_m);
-  if (args.has("crater-sizes"))
-    craters.size_distribution =
-        sim::parse_size_distribution(args.get("crater-sizes"), "--crater-sizes");
-  if (args.has("crater-exponent")) craters.power_law_exponent = args.number("crater-exponent");
-  if (args.has("crater-box")) {
-    const auto box = numbers(args, "crater-box", 3);
-    craters.min_x_m = box[0];
-    craters.max_x_m = box[1];
-    craters.max_abs_y_m = box[2];
-  }
-  if (args.has("crater-depth")) craters.depth_ratio = args.number("crater-depth");
-  if (args.has("crater-rim")) craters.rim_ratio = args.number("crater-rim");
+  parse_field_flags(args, "crater", options.crater_field);
+  if (args.has("crater-depth")) options.crater_field.depth_ratio = args.number("crater-depth");
+  if (args.has("crater-rim")) options.crater_field.rim_ratio = args.number("crater-rim");
 
   // Path and poses.
   options.path.kind = args.get("path", options.path.kind);
