@@ -63,7 +63,7 @@ JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::
   j.center_x_m = grid.center_x_m;
   j.center_y_m = grid.center_y_m;
   j.values = grid.values;
-  j.metadata.emplace_back("frame", frame_name);
+  if (!frame_name.empty()) j.metadata.emplace_back("frame", frame_name);
   return j;
 }
 

@@ -17,6 +17,7 @@
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/map/dense_grid.hpp"
+#include "hazmap/pipeline/output_writer.hpp"
 
 namespace hazmap::testing {
 
@@ -64,18 +65,6 @@ struct TestWorld {
   }
 };
 
-inline JdemGrid as_jdem(const DenseGrid& g, const std::string& quantity) {
-  JdemGrid j;
-  j.quantity = quantity;
-  j.rows = g.rows;
-  j.cols = g.cols;
-  j.resolution_m = g.resolution_m;
-  j.center_x_m = g.center_x_m;
-  j.center_y_m = g.center_y_m;
-  j.values = g.values;
-  return j;
-}
-
 /// gt_height.jdem, gt_hazard.jdem and poses.txt (+ poses_true.txt when `true_poses`) in
 /// `seq`. Poses: one frame per entry of `frames`, body at (x_m, y_m) of `used_xy`
 /// (what the map used) and `true_xy`.
@@ -88,8 +77,8 @@ inline void write_ground_truth(const std::filesystem::path& seq, const TestWorld
       z.at(r, c) = static_cast<float>(w.obstacle(x, y));
       h.at(r, c) = static_cast<float>(w.ground(x, y) + w.obstacle(x, y));
     }
-  write_jdem(seq / "gt_height.jdem", as_jdem(h, "height"));
-  write_jdem(seq / "gt_hazard.jdem", as_jdem(z, "hazard"));
+  write_jdem(seq / "gt_height.jdem", to_jdem(h, "height", "m", ""));
+  write_jdem(seq / "gt_hazard.jdem", to_jdem(z, "hazard", "m", ""));
 }
 
 inline void write_poses(const std::filesystem::path& file, const std::vector<std::string>& frames,
@@ -192,15 +181,17 @@ inline void write_oracle_run(const std::filesystem::path& run, const Config& con
     const auto& layers = layers_per_frame[f];
     for (size_t i = 0; i < layers.size(); ++i) {
       const std::string p = "L" + std::to_string(i) + "_";
-      write_jdem(dir / (p + "height.jdem"), as_jdem(layers[i].height, "height"));
-      write_jdem(dir / (p + "variance.jdem"), as_jdem(layers[i].variance, "variance"));
-      write_jdem(dir / (p + "hazard.jdem"), as_jdem(layers[i].hazard, "hazard"));
+      // The same conversion and units as the pipeline's writer.
+      const std::string& name = frames[f];
+      write_jdem(dir / (p + "height.jdem"), to_jdem(layers[i].height, "height", "m", name));
+      write_jdem(dir / (p + "variance.jdem"), to_jdem(layers[i].variance, "variance", "m^2", name));
+      write_jdem(dir / (p + "hazard.jdem"), to_jdem(layers[i].hazard, "hazard", "class", name));
       if (config.map.layers[i].rule == RuleKind::ccm) {
-        write_jdem(dir / (p + "slope_x.jdem"), as_jdem(layers[i].slope_x, "slope_x"));
-        write_jdem(dir / (p + "slope_y.jdem"), as_jdem(layers[i].slope_y, "slope_y"));
+        write_jdem(dir / (p + "slope_x.jdem"), to_jdem(layers[i].slope_x, "slope_x", "m/m", name));
+        write_jdem(dir / (p + "slope_y.jdem"), to_jdem(layers[i].slope_y, "slope_y", "m/m", name));
       }
     }
-    write_jdem(dir / "fused_hazard.jdem", as_jdem(layers[0].hazard, "hazard"));
+    write_jdem(dir / "fused_hazard.jdem", to_jdem(layers[0].hazard, "hazard", "class", frames[f]));
     cv::Mat mosaic(120, 200, CV_8UC3, cv::Scalar(40, 170, 70));
     cv::rectangle(mosaic, cv::Rect(20 + 10 * static_cast<int>(f), 30, 40, 40),
                   cv::Scalar(40, 40, 220), cv::FILLED);

@@ -21,7 +21,8 @@ struct HazardAreas {
 
 HazardAreas hazard_areas(const DenseGrid& hazard);
 
-/// A dense grid as a JDEM grid (same layout: row 0 = largest y).
+/// A dense grid as a JDEM grid (same layout: row 0 = largest y); `frame_name` becomes
+/// the `frame` metadata key unless it is empty.
 JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::string& units,
                  const std::string& frame_name);
 
