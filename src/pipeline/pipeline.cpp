@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "hazmap/hazard/fused_hazard.hpp"
-#include "hazmap/io/images.hpp"
 
 namespace hazmap {
 namespace {
@@ -46,11 +45,7 @@ void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmH
 
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(config),
-      grey_(config.stereo.input_bits),
-      rectifier_(calibration, config.stereo.rectify_alpha),
-      matcher_(config.stereo),
-      builder_(config.stereo, config.sensor, rectifier_.geometry(), rectifier_.R1(),
-               calibration.T_B_C, rectifier_.valid_roi(), rectifier_.valid_roi_right()),
+      front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
       map_(config.map, config.rules, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       views_(config.map.layers.size()) {
@@ -64,26 +59,19 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                               const PoseNoise& noise) {
   FrameReport report;
+  const StereoTimes stereo = front_.process(left, right, T_W_B);
+  report.ms.rectify_ms = stereo.grey_ms + stereo.rectify_ms;
+  report.ms.disparity_ms = stereo.disparity_ms;
   auto t = Clock::now();
-  // One scale for both images: 10/12-bit data in 16-bit PNGs is not crushed by 1/256.
-  grey_.convert(left, right, grey_left_, grey_right_);
-  rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
-  report.ms.rectify_ms = ms_since(t);
-
-  t = Clock::now();
-  matcher_.compute(rect_left_, rect_right_, disparity_);
-  report.ms.disparity_ms = ms_since(t);
-
-  t = Clock::now();
-  builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
-  prepare_measurements(cloud_, weighting_);
-  report.points = cloud_.size();
-  report.ms.points_ms = ms_since(t);
+  PointCloud& cloud = front_.cloud();
+  prepare_measurements(cloud, weighting_);
+  report.points = cloud.size();
+  report.ms.points_ms = stereo.points_ms + ms_since(t);
 
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
   map_.begin_frame(robot.x(), robot.y(), noise);
-  report.updates = map_.insert(cloud_);
+  report.updates = map_.insert(cloud);
   report.ms.map_ms = ms_since(t);
 
   t = Clock::now();

@@ -14,12 +14,13 @@ double ms_since(Clock::time_point start) {
 }  // namespace
 
 StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& sensor,
-                               const StereoCalibration& calibration)
+                               const StereoCalibration& calibration, bool keep_pixels)
     : grey_(stereo.input_bits),
       rectifier_(calibration, stereo.rectify_alpha),
       matcher_(stereo),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
-               rectifier_.valid_roi(), rectifier_.valid_roi_right()) {}
+               rectifier_.valid_roi(), rectifier_.valid_roi_right()),
+      keep_pixels_(keep_pixels) {}
 
 StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
                                     const Pose3d& T_W_B) {
@@ -37,7 +38,10 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();
-  builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_);
+  if (keep_pixels_)
+    builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_);
+  else
+    builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
   times.points_ms = ms_since(t);
   return times;
 }

@@ -7,14 +7,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "hazmap/camera/rectifier.hpp"
 #include "hazmap/hazard/ccm_hazards.hpp"
 #include "hazmap/hazard/roughness_filter.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
-#include "hazmap/stereo/disparity.hpp"
-#include "hazmap/stereo/grey_pair.hpp"
-#include "hazmap/stereo/point_cloud_builder.hpp"
+#include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
 
@@ -68,26 +65,21 @@ class Pipeline {
   const std::vector<LayerView>& layers() const { return views_; }
   const DenseGrid& fused_hazard() const { return fused_; }
   const LayerStack& map() const { return map_; }
-  const PointCloud& cloud() const { return cloud_; }
-  const cv::Mat& disparity_x16() const { return disparity_; }
-  const Rectifier& rectifier() const { return rectifier_; }
+  const PointCloud& cloud() const { return front_.cloud(); }
+  const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
+  const Rectifier& rectifier() const { return front_.rectifier(); }
 
  private:
   void analyse_hazards();
 
   Config config_;
-  GreyPairConverter grey_;
-  Rectifier rectifier_;
-  DisparityMatcher matcher_;
-  PointCloudBuilder builder_;
+  StereoFrontEnd front_;
   LayerStack map_;
   CcmWeighting weighting_;
   RoughnessFilter roughness_;
   std::vector<RoughnessParams> roughness_params_;
   std::vector<CcmHazardParams> ccm_params_;
 
-  cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
-  PointCloud cloud_;
   std::vector<LayerView> views_;
   std::vector<const DenseGrid*> hazard_ptrs_;
   DenseGrid fused_;

@@ -31,8 +31,10 @@ class StereoFrontEnd {
  public:
   /// Builds the rectification maps and the matcher. Throws Error on an unusable
   /// calibration or configuration.
+  /// `keep_pixels`: also record each point's pixel (pixels()); the mapping pipeline
+  /// does not need them and skips the work.
   StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& sensor,
-                 const StereoCalibration& calibration);
+                 const StereoCalibration& calibration, bool keep_pixels = true);
 
   /// Runs one pair (8/16-bit, grey or colour, the calibrated size) taken at body pose
   /// T_W_B. Results stay valid until the next call. Throws Error on a bad image.
@@ -42,6 +44,8 @@ class StereoFrontEnd {
   const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
   const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
   const PointCloud& cloud() const { return cloud_; }              ///< world frame
+  /// The same cloud, for the map to fill its derived per-point fields in place.
+  PointCloud& cloud() { return cloud_; }
   /// Rectified left pixel of each point of cloud().
   const std::vector<cv::Point>& pixels() const { return pixels_; }
   /// Significant bits the last pair was scaled from (8 for 8-bit input).
@@ -60,6 +64,7 @@ class StereoFrontEnd {
   PointCloud cloud_;
   std::vector<cv::Point> pixels_;
   int input_bits_ = 8;
+  bool keep_pixels_ = true;
 };
 
 }  // namespace hazmap
