@@ -43,7 +43,9 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
 }
 
 LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose_uncertainty)
-    : pooling_(map.insertion == "finest_then_pool"), track_pose_(pose_uncertainty) {
+    : pooling_(map.insertion == "finest_then_pool"),
+      track_pose_(pose_uncertainty),
+      chunk_(std::make_unique<PointChunk>()) {
   for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, i));
   pools_.resize(layers_.size());
   if (pooling_)
@@ -65,13 +67,14 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
 }
 
 std::size_t LayerStack::insert(const PointCloud& cloud) {
-  // Chunks small enough to stay in the L2 cache while every layer reads them.
-  constexpr std::size_t kChunk = 2048;
+  // Each chunk is converted once and read by every layer while it is in cache.
+  PointChunk& chunk = *chunk_;
   std::size_t updates = 0;
   for (auto& layer : layers_) layer->begin_insert();
-  for (std::size_t start = 0; start < cloud.size(); start += kChunk) {
-    const std::size_t count = std::min(kChunk, cloud.size() - start);
-    for (auto& layer : layers_) updates += layer->insert_points(cloud.data() + start, count);
+  for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
+    const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
+    chunk.fill(cloud.data() + start, static_cast<int>(count));
+    for (auto& layer : layers_) updates += layer->insert_chunk(chunk);
   }
   for (auto& layer : layers_) layer->end_insert();
   if (pooling_) {

@@ -3,12 +3,14 @@
 // type-erased interface is called once per frame and layer (never per point); the
 // rule's per-point work is inlined in RollingLayer<Rule>::insert.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "hazmap/map/dense_grid.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/pose_uncertainty.hpp"
 #include "hazmap/map/rolling_grid.hpp"
 
@@ -42,19 +44,25 @@ class Layer {
   /// per-frame update (Kalman inflation, OMG decay) to known cells.
   virtual void begin_frame(double robot_x_m, double robot_y_m, std::uint32_t frame) = 0;
 
-  /// A frame's insertion: begin_insert, insert_points over consecutive chunks of the
+  /// A frame's insertion: begin_insert, insert_chunk over consecutive chunks of the
   /// frame's points (so a chunk stays in cache while every layer reads it), end_insert
-  /// (merges the frame into the touched cells). insert_points takes every point whose
+  /// (merges the frame into the touched cells). insert_chunk takes every point whose
   /// cell is inside the window (and not covered by the finer layer, in pooling mode) and
   /// returns how many it used.
   virtual void begin_insert() = 0;
-  virtual std::size_t insert_points(const Measurement* points, std::size_t count) = 0;
+  virtual std::size_t insert_chunk(const PointChunk& chunk) = 0;
   virtual void end_insert() = 0;
 
-  /// The whole frame at once.
+  /// The whole frame at once (tests; LayerStack::insert shares chunks between layers).
   std::size_t insert(const PointCloud& cloud) {
+    PointChunk chunk;
     begin_insert();
-    const std::size_t used = insert_points(cloud.data(), cloud.size());
+    std::size_t used = 0;
+    for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
+      const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
+      chunk.fill(cloud.data() + start, static_cast<int>(count));
+      used += insert_chunk(chunk);
+    }
     end_insert();
     return used;
   }

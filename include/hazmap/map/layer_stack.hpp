@@ -46,6 +46,7 @@ class LayerStack {
   std::vector<PoolGrid> pools_;  ///< pools_[i]: children of layer i (i >= 1)
   bool pooling_ = false;
   bool track_pose_ = false;
+  std::unique_ptr<PointChunk> chunk_;  ///< the frame's points, a chunk at a time
   PoseUncertainty pose_;
   std::uint32_t frame_ = 0;
   bool started_ = false;

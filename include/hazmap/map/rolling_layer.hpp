@@ -1,19 +1,23 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
-// Cell, Sums and static known / clear / reference_z / point_weight / merge_frame /
+// Cell, Sums and static known / clear / reference_z / weights / merge_frame /
 // begin_frame / to_moments / from_moments / height / variance).
 //
-// Per point: one multiply per axis (no division by the resolution), an integer floor,
-// an unsigned bounds test, a conditional subtract for the ring wrap (no modulo) and the
-// rule's Sums::add into registers while the points stay in one cell (scan lines cross
-// cells in runs), then into the cell's frame accumulator. Per frame: each touched cell
-// is merged once. All buffers are allocated in the constructor.
+// Insertion works on chunks of points in two passes. Pass 1 maps every point to its
+// storage slot with straight-line arithmetic the compiler vectorises: one multiply per
+// axis (no division by the resolution), a floor, an unsigned bounds test and a
+// conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 walks
+// the runs of equal slots (scan lines cross cells in runs) and sums each run in
+// registers into the cell's frame accumulator. Per frame each touched cell is merged
+// once. All buffers are allocated in the constructor.
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/layer.hpp"
+#include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
 
@@ -32,8 +36,9 @@ class RollingLayer final : public Layer {
         cells_(cell_count()),
         accumulators_(cell_count()),
         updated_frame_(cell_count(), 0),
-        slot_x_(static_cast<std::size_t>(size)),
-        slot_y_(static_cast<std::size_t>(size)) {
+        slot_buf_(PointChunk::kStride, -1),
+        x_buf_(PointChunk::kStride, 0.0f),
+        y_buf_(PointChunk::kStride, 0.0f) {
     touched_.reserve(cell_count());
     if (pooled) {
       prior_.resize(cell_count());
@@ -51,65 +56,54 @@ class RollingLayer final : public Layer {
   void begin_insert() override {
     ++stamp_;
     touched_.clear();
-    // Window-relative index -> storage slot, per axis (the window moves by whole cells).
-    const int n = grid_.size();
-    for (int i = 0; i < n; ++i) {
-      slot_x_[i] = wrap_index(grid_.origin_x() + i, n);
-      slot_y_[i] = wrap_index(grid_.origin_y() + i, n) * n;
-    }
   }
 
-  std::size_t insert_points(const Measurement* points, std::size_t count) override {
-    const auto n = static_cast<std::uint64_t>(grid_.size());
-    // Coordinates relative to the window's first cell, in cells: the window is [0, n).
-    const double x0 = static_cast<double>(grid_.origin_x()) * grid_.resolution_m();
-    const double y0 = static_cast<double>(grid_.origin_y()) * grid_.resolution_m();
-    const int* slot_x = slot_x_.data();
-    const int* slot_y = slot_y_.data();
+  std::size_t insert_chunk(const PointChunk& chunk) override {
+    const int n = grid_.size();
+    const int count = chunk.size;
+    int* const slot = slot_buf_.data();
+    float* const cx = x_buf_.data();
+    float* const cy = y_buf_.data();
+    // Pass 1: each point's storage slot (-1: outside or gated) and cell-centred x, y.
+    WindowIndex window;
+    window.x0_m = static_cast<double>(grid_.origin_x()) * grid_.resolution_m();
+    window.y0_m = static_cast<double>(grid_.origin_y()) * grid_.resolution_m();
+    window.inv_resolution = inv_resolution_;
+    window.size = n;
+    window.wrap_x = wrap_index(grid_.origin_x(), n);
+    window.wrap_y = wrap_index(grid_.origin_y(), n);
+    if constexpr (Rule::kHasPlane)
+      locate_points(chunk, window, gate_var_, slot, cx, cy);
+    else
+      locate_points(chunk, window, gate_var_, slot, nullptr, nullptr);
+    // Pass 2: runs of consecutive points in one cell, summed once per run.
     const bool pooled = !covered_.empty();
+    const float* const w = Rule::weights(chunk);
     std::size_t used = 0;
-    // Consecutive points of a scan line mostly fall in the same cell: sum such a run in
-    // registers and add it to the cell's frame accumulator once.
-    int run_slot = -1;
-    Accumulator* run_acc = nullptr;
-    double run_z_ref = 0.0;
-    typename Rule::Sums run{};
-    for (const Measurement* m = points; m != points + count; ++m) {
-      if constexpr (Rule::kHasPlane) {
-        if (m->lateral_var > gate_var_) continue;
-      }
-      const double fx = (m->p_W.x() - x0) * inv_resolution_;
-      const double fy = (m->p_W.y() - y0) * inv_resolution_;
-      // floor by truncation of fx + 1 (exact for fx > -1; farther left is out anyway),
-      // then one unsigned compare per axis for the window bounds.
-      const std::int64_t lx = static_cast<std::int64_t>(fx + 1.0) - 1;
-      const std::int64_t ly = static_cast<std::int64_t>(fy + 1.0) - 1;
-      if (static_cast<std::uint64_t>(lx) >= n || static_cast<std::uint64_t>(ly) >= n) continue;
-      const int slot = slot_y[ly] + slot_x[lx];  // ring wrap by table: no modulo, no branch
-      if (slot != run_slot) {
-        if (run_acc) run_acc->sums += run;
-        run_slot = slot;
-        run_acc = nullptr;
-        if (pooled && covered_[slot]) continue;  // the finer layer holds this cell's points
-        Accumulator& a = accumulators_[slot];
+    for (int i = 0; i < count;) {
+      const int s = slot[i];
+      int end = i + 1;
+      while (end < count && slot[end] == s) ++end;
+      if (s >= 0 && !(pooled && covered_[s])) {  // covered: the finer layer holds its points
+        Accumulator& a = accumulators_[s];
         if (a.stamp != stamp_) {
           a.stamp = stamp_;
           a.sums = typename Rule::Sums{};
-          a.z_ref = Rule::known(cells_[slot]) ? Rule::reference_z(cells_[slot]) : m->p_W.z();
-          touched_.push_back(slot);
+          a.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
+          touched_.push_back(s);
         }
-        run_acc = &a;
-        run_z_ref = a.z_ref;
-        run = typename Rule::Sums{};
-      } else if (!run_acc) {
-        continue;  // still in a covered cell
+        const double z_ref = a.z_ref;
+        if constexpr (Rule::kHasPlane) {
+          add_plane_run(RunPoints{w, cx, cy, chunk.z, i, end}, z_ref, a.sums);
+        } else {
+          typename Rule::Sums run{};
+          for (int k = i; k < end; ++k) run.add(w[k], 0.0, 0.0, double(chunk.z[k]) - z_ref);
+          a.sums += run;
+        }
+        used += static_cast<std::size_t>(end - i);
       }
-      run.add(Rule::point_weight(*m), fx - static_cast<double>(lx) - 0.5,
-              fy - static_cast<double>(ly) - 0.5,
-              double(m->p_W.z()) - run_z_ref);
-      ++used;
+      i = end;
     }
-    if (run_acc) run_acc->sums += run;
     return used;
   }
 
@@ -311,7 +305,9 @@ class RollingLayer final : public Layer {
   std::vector<Accumulator> accumulators_;
   std::vector<std::uint32_t> updated_frame_;
   std::vector<int> touched_;
-  std::vector<int> slot_x_, slot_y_;  ///< window-relative index -> slot column / row offset
+  // Per-chunk scratch: slot (-1: dropped) and cell-centred x, y of each point.
+  std::vector<int> slot_buf_;
+  std::vector<float> x_buf_, y_buf_;
   std::vector<typename Rule::Cell> prior_;
   std::vector<unsigned char> covered_;
 };

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/measurement.hpp"
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
 
@@ -37,7 +37,7 @@ struct BananasRule {
   static bool known(const Cell& c) { return !std::isnan(c.height_m); }
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.height_m; }
-  static double point_weight(const Measurement&) { return 1.0; }
+  static const float* weights(const PointChunk& c) { return c.inv_var_z; }  // unused
   static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
     if (s.count > 0) c.height_m = static_cast<float>(z_ref_m + s.last_z);
   }

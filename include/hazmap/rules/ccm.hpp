@@ -16,8 +16,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/measurement.hpp"
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
 
@@ -45,7 +45,7 @@ struct CcmRule {
   static bool known(const Cell& c) { return c.w > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
-  static double point_weight(const Measurement& m) { return m.ccm_weight; }
+  static const float* weights(const PointChunk& c) { return c.ccm_weight; }
   static double mean_z(const Cell& c) { return double(c.z_ref_m) + double(c.mz_off_m); }
 
   static Moments to_moments(const Cell& c) {

@@ -19,8 +19,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/measurement.hpp"
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
 
@@ -58,7 +58,7 @@ struct KalmanRule {
   static void clear(Cell& c) { c = Cell{}; }
   static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
-  static double point_weight(const Measurement& m) { return m.inv_var_z; }
+  static const float* weights(const PointChunk& c) { return c.inv_var_z; }
 
   static void set_mean(Cell& c, double mean_m) {
     c.z_ref_m = static_cast<float>(mean_m);

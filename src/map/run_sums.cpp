@@ -1,0 +1,62 @@
+#include "hazmap/map/run_sums.hpp"
+
+#include <cstring>
+
+#include "hazmap/core/kernel.hpp"
+
+namespace hazmap {
+namespace {
+
+// GCC / Clang vector extensions: SSE on x86-64, NEON on ARM, wider where enabled.
+typedef float Vec4 __attribute__((vector_size(16)));
+typedef int Mask4 __attribute__((vector_size(16)));
+
+[[gnu::always_inline]] inline Vec4 load(const float* p) {
+  Vec4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+[[gnu::always_inline]] inline Vec4 keep(Vec4 v, Mask4 live) { return reinterpret_cast<Vec4>(reinterpret_cast<Mask4>(v) & live); }
+[[gnu::always_inline]] inline double total(Vec4 v) { return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3])); }
+
+}  // namespace
+
+HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums) {
+  const float z0 = run.z[run.begin];
+  Vec4 w{}, x{}, y{}, z{}, xx{}, yy{}, zz{}, xy{}, xz{}, yz{};
+  const Mask4 lane = {0, 1, 2, 3};
+  for (int k = run.begin; k < run.end; k += 4) {
+    // Lanes past the run's end are zeroed (their values may be anything, even NaN).
+    const Mask4 live = (lane + k) < run.end;
+    const Vec4 pw = keep(load(run.w + k), live);
+    const Vec4 px = keep(load(run.x + k), live);
+    const Vec4 py = keep(load(run.y + k), live);
+    const Vec4 pz = keep(load(run.z + k) - z0, live);
+    const Vec4 wx = pw * px, wy = pw * py, wz = pw * pz;
+    w += pw;
+    x += wx;
+    y += wy;
+    z += wz;
+    xx += wx * px;
+    yy += wy * py;
+    zz += wz * pz;
+    xy += wx * py;
+    xz += wx * pz;
+    yz += wy * pz;
+  }
+  const double W = total(w), X = total(x), Y = total(y), Z = total(z);
+  const double d = double(z0) - z_ref_m;
+  sums.w += W;
+  sums.x += X;
+  sums.y += Y;
+  sums.z += Z + W * d;
+  sums.xx += total(xx);
+  sums.yy += total(yy);
+  sums.xy += total(xy);
+  sums.zz += total(zz) + d * (2.0 * Z + W * d);
+  sums.xz += total(xz) + d * X;
+  sums.yz += total(yz) + d * Y;
+  sums.count += static_cast<std::uint32_t>(run.end - run.begin);
+}
+
+}  // namespace hazmap

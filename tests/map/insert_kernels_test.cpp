@@ -1,0 +1,122 @@
+// The two per-point kernels of a layer's insertion against plain scalar double versions:
+// locate_points (slot and cell-centred position) and add_plane_run (a run's sums).
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hazmap/map/chunk_slots.hpp"
+#include "hazmap/map/grid_math.hpp"
+#include "hazmap/map/rolling_grid.hpp"
+#include "hazmap/map/run_sums.hpp"
+
+namespace hazmap {
+namespace {
+
+TEST(LocatePoints, MatchesScalarFloorAndModulo) {
+  std::mt19937_64 rng(5);
+  for (const auto& [n, r, robot_x, robot_y] :
+       {std::tuple{250, 0.04, 3.3, -7.9}, std::tuple{1000, 0.01, -123.45, 56.78},
+        std::tuple{16, 0.64, 0.0, 0.0}}) {
+    RollingGrid grid(n, r);
+    grid.move_to(robot_x, robot_y);
+    grid.move_to(robot_x + 0.37 * n * r, robot_y - 0.21 * n * r);  // wrapped ring
+    WindowIndex w;
+    w.x0_m = double(grid.origin_x()) * r;
+    w.y0_m = double(grid.origin_y()) * r;
+    w.inv_resolution = 1.0 / r;
+    w.size = n;
+    w.wrap_x = wrap_index(grid.origin_x(), n);
+    w.wrap_y = wrap_index(grid.origin_y(), n);
+    std::uniform_real_distribution<double> u(-0.2, 1.2);  // some points outside
+    PointChunk chunk;
+    chunk.size = PointChunk::kCapacity;
+    for (int i = 0; i < chunk.size; ++i) {
+      chunk.x[i] = float(w.x0_m + u(rng) * n * r);
+      chunk.y[i] = float(w.y0_m + u(rng) * n * r);
+      chunk.lateral_var[i] = float(i % 3) * 1e-6f;
+    }
+    chunk.x[7] = std::numeric_limits<float>::quiet_NaN();
+    chunk.y[9] = std::numeric_limits<float>::infinity();
+    std::vector<int> slot(PointChunk::kStride);
+    std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
+    const float gate = 1.5e-6f;
+    locate_points(chunk, w, gate, slot.data(), cx.data(), cy.data());
+    int inside = 0, boundary = 0;
+    for (int i = 0; i < chunk.size; ++i) {
+      const double fx = (double(chunk.x[i]) - w.x0_m) / r, fy = (double(chunk.y[i]) - w.y0_m) / r;
+      // Points within 1e-4 cell of a cell edge may fall either way in float arithmetic.
+      if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) {
+        ++boundary;
+        continue;
+      }
+      const double lx = std::floor(fx), ly = std::floor(fy);
+      const bool in = std::isfinite(fx) && std::isfinite(fy) && lx >= 0 && lx < n && ly >= 0 &&
+                      ly < n && !(chunk.lateral_var[i] > gate);
+      if (!in) {
+        EXPECT_EQ(slot[i], -1) << "point " << i;
+        continue;
+      }
+      ++inside;
+      const CellIndex ix = grid.origin_x() + CellIndex(lx), iy = grid.origin_y() + CellIndex(ly);
+      ASSERT_EQ(slot[i], grid.slot(ix, iy)) << "point " << i;
+      EXPECT_NEAR(cx[i], fx - lx - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
+      EXPECT_NEAR(cy[i], fy - ly - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
+    }
+    EXPECT_GT(inside, chunk.size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
+    EXPECT_LT(boundary, 20);
+    // Without position outputs no gate applies.
+    locate_points(chunk, w, gate, slot.data(), nullptr, nullptr);
+    EXPECT_EQ(slot[7], -1);
+    EXPECT_EQ(slot[9], -1);
+  }
+}
+
+TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.5, 0.5), wd(0.5, 2.0);
+  std::normal_distribution<double> nz(0.0, 0.002);
+  PointChunk c;
+  std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
+  for (int i = 0; i < PointChunk::kStride; ++i) {
+    cx[i] = float(u(rng));
+    cy[i] = float(u(rng));
+    c.z[i] = float(35.0 + 0.1 * cx[i] + nz(rng));  // far from the reference, mm spread
+    c.ccm_weight[i] = float(wd(rng));
+  }
+  for (int begin : {0, 1, 3, 5}) {
+    for (int len = 1; len <= 23; ++len) {
+      const int end = begin + len;
+      // A NaN just past the run must not leak into the masked vector lanes.
+      const float saved = c.z[end];
+      c.z[end] = std::numeric_limits<float>::quiet_NaN();
+      const double z_ref = 34.99;
+      FrameSums got, want;
+      got.w = 1.0;  // runs add to what is there
+      want.w = 1.0;
+      add_plane_run(RunPoints{c.ccm_weight, cx.data(), cy.data(), c.z, begin, end}, z_ref, got);
+      for (int k = begin; k < end; ++k) want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
+      c.z[end] = saved;
+      ASSERT_EQ(got.count, want.count);
+      const double tol = 1e-6;
+      EXPECT_NEAR(got.w, want.w, tol * want.w);
+      EXPECT_NEAR(got.x, want.x, tol * want.w);
+      EXPECT_NEAR(got.y, want.y, tol * want.w);
+      EXPECT_NEAR(got.xx, want.xx, tol * want.w);
+      EXPECT_NEAR(got.xy, want.xy, tol * want.w);
+      // z sums relative to z_ref: compare the centred spread, which is what cancels.
+      const Moments mg = got.to_moments(1.0, z_ref), mw = want.to_moments(1.0, z_ref);
+      EXPECT_NEAR(mg.mz, mw.mz, 1e-7) << begin << "+" << len;
+      if (len > 1) {
+        EXPECT_NEAR(mg.szz, mw.szz, 1e-4 * mw.szz + 1e-12) << begin << "+" << len;
+        EXPECT_NEAR(mg.sxz, mw.sxz, 1e-4 * std::sqrt(mw.sxx * mw.szz) + 1e-12);
+        EXPECT_NEAR(mg.syz, mw.syz, 1e-4 * std::sqrt(mw.syy * mw.szz) + 1e-12);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hazmap
