@@ -1,5 +1,6 @@
 #include "hazmap/map/run_sums.hpp"
 
+#include <cstdint>
 #include <cstring>
 
 #include "hazmap/core/kernel.hpp"
@@ -10,6 +11,7 @@ namespace {
 // GCC / Clang vector extensions: SSE on x86-64, NEON on ARM, wider where enabled.
 typedef float Vec4 __attribute__((vector_size(16)));
 typedef int Mask4 __attribute__((vector_size(16)));
+typedef int Int8 __attribute__((vector_size(32)));
 
 [[gnu::always_inline]] inline Vec4 load(const float* p) {
   Vec4 v;
@@ -57,6 +59,43 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
   sums.xz += total(xz) + d * X;
   sums.yz += total(yz) + d * Y;
   sums.count += static_cast<std::uint32_t>(run.end - run.begin);
+}
+
+HAZMAP_KERNEL HeightSums height_run(const RunPoints& run, double z_ref_m) {
+  const float z0 = run.z[run.begin];
+  Vec4 w{}, wz{}, wzz{};
+  const Mask4 lane = {0, 1, 2, 3};
+  for (int k = run.begin; k < run.end; k += 4) {
+    const Mask4 live = (lane + k) < run.end;
+    const Vec4 pw = keep(load(run.w + k), live);
+    const Vec4 pz = keep(load(run.z + k) - z0, live);
+    const Vec4 t = pw * pz;
+    w += pw;
+    wz += t;
+    wzz += t * pz;
+  }
+  HeightSums s;
+  const double W = total(w), WZ = total(wz), d = double(z0) - z_ref_m;
+  s.w = W;
+  s.wz = WZ + W * d;
+  s.wzz = total(wzz) + d * (2.0 * WZ + W * d);
+  return s;
+}
+
+HAZMAP_KERNEL int run_end(const int* slot, int begin, int count) {
+  const int s = slot[begin];
+  int k = begin + 1;
+  // Eight slots per step while they all match (long runs on coarse layers), then one by one.
+  for (; k + 8 <= count; k += 8) {
+    Int8 v;
+    std::memcpy(&v, slot + k, sizeof v);
+    const Int8 differ = v != s;
+    std::uint64_t parts[4];
+    std::memcpy(parts, &differ, sizeof parts);
+    if (parts[0] | parts[1] | parts[2] | parts[3]) break;
+  }
+  while (k < count && slot[k] == s) ++k;
+  return k;
 }
 
 }  // namespace hazmap

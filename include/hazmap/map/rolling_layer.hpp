@@ -11,6 +11,7 @@
 // registers into the cell's frame accumulator. Per frame each touched cell is merged
 // once. All buffers are allocated in the constructor.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -36,10 +37,11 @@ class RollingLayer final : public Layer {
         cells_(cell_count()),
         accumulators_(cell_count()),
         updated_frame_(cell_count(), 0),
+        frame_index_(cell_count(), 0),
+        touched_(cell_count(), 0),
         slot_buf_(PointChunk::kStride, -1),
         x_buf_(PointChunk::kStride, 0.0f),
         y_buf_(PointChunk::kStride, 0.0f) {
-    touched_.reserve(cell_count());
     if (pooled) {
       prior_.resize(cell_count());
       covered_.assign(cell_count(), 0);
@@ -54,8 +56,7 @@ class RollingLayer final : public Layer {
   }
 
   void begin_insert() override {
-    ++stamp_;
-    touched_.clear();
+    touched_count_ = 0;
   }
 
   std::size_t insert_chunk(const PointChunk& chunk) override {
@@ -82,24 +83,27 @@ class RollingLayer final : public Layer {
     std::size_t used = 0;
     for (int i = 0; i < count;) {
       const int s = slot[i];
-      int end = i + 1;
-      while (end < count && slot[end] == s) ++end;
+      const int end = run_end(slot, i, count);
+      // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
+      const int ahead = slot[std::min(end + kPrefetchPoints, count - 1)];
+      if (ahead >= 0) {
+        __builtin_prefetch(&frame_index_[ahead]);
+        __builtin_prefetch(&cells_[ahead]);
+      }
       if (s >= 0 && !(pooled && covered_[s])) {  // covered: the finer layer holds its points
-        Accumulator& a = accumulators_[s];
-        if (a.stamp != stamp_) {
-          a.stamp = stamp_;
-          a.sums = typename Rule::Sums{};
-          a.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
-          touched_.push_back(s);
+        // Sparse set: frame_index_[s] is valid only if touched_ points back to s. The
+        // frame's accumulators are packed in touch order, so they stay in cache.
+        int k = frame_index_[s];
+        if (static_cast<unsigned>(k) >= static_cast<unsigned>(touched_count_) || touched_[k] != s) {
+          k = touched_count_++;
+          frame_index_[s] = k;
+          touched_[k] = s;
+          Accumulator& fresh = accumulators_[k];
+          fresh.sums = typename Rule::Sums{};
+          fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
         }
-        const double z_ref = a.z_ref;
-        if constexpr (Rule::kHasPlane) {
-          add_plane_run(RunPoints{w, cx, cy, chunk.z, i, end}, z_ref, a.sums);
-        } else {
-          typename Rule::Sums run{};
-          for (int k = i; k < end; ++k) run.add(w[k], 0.0, 0.0, double(chunk.z[k]) - z_ref);
-          a.sums += run;
-        }
+        Accumulator& a = accumulators_[k];
+        Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end}, a.z_ref);
         used += static_cast<std::size_t>(end - i);
       }
       i = end;
@@ -109,8 +113,10 @@ class RollingLayer final : public Layer {
 
   void end_insert() override {
     const double r = grid_.resolution_m();
-    for (const int slot : touched_) {
-      const Accumulator& a = accumulators_[slot];
+    for (int k = 0; k < touched_count_; ++k) {
+      const int slot = touched_[k];
+      __builtin_prefetch(&cells_[touched_[std::min(k + kPrefetchCells, touched_count_ - 1)]], 1);
+      const Accumulator& a = accumulators_[k];
       Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r);
       updated_frame_[slot] = frame_;
     }
@@ -230,10 +236,12 @@ class RollingLayer final : public Layer {
   const typename Rule::Config& config() const { return config_; }
 
  private:
+  static constexpr int kPrefetchPoints = 32;  ///< ~4 runs ahead on a 1 cm layer
+  static constexpr int kPrefetchCells = 8;
+
   struct Accumulator {
     typename Rule::Sums sums;
     float z_ref = 0.0f;
-    std::uint32_t stamp = 0;
   };
 
   std::size_t cell_count() const {
@@ -300,11 +308,12 @@ class RollingLayer final : public Layer {
   double inv_resolution_;
   float gate_var_;
   std::uint32_t frame_ = 0;
-  std::uint32_t stamp_ = 0;
   std::vector<typename Rule::Cell> cells_;
   std::vector<Accumulator> accumulators_;
   std::vector<std::uint32_t> updated_frame_;
-  std::vector<int> touched_;
+  std::vector<int> frame_index_;  ///< slot -> its accumulator this frame (see insert_chunk)
+  std::vector<int> touched_;      ///< accumulator -> slot, in order of first touch
+  int touched_count_ = 0;
   // Per-chunk scratch: slot (-1: dropped) and cell-centred x, y of each point.
   std::vector<int> slot_buf_;
   std::vector<float> x_buf_, y_buf_;

@@ -27,4 +27,16 @@ struct RunPoints {
 /// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`.
 void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums);
 
+/// Weighted height sums of a run (w, x and y unused): sum w, sum w z, sum w z^2 with z
+/// relative to `z_ref_m`, summed in float lanes about the run's first height like
+/// add_plane_run.
+struct HeightSums {
+  double w = 0, wz = 0, wzz = 0;
+};
+HeightSums height_run(const RunPoints& run, double z_ref_m);
+
+/// End of the run that starts at `begin`: the first index in (begin, count] whose slot
+/// differs from slot[begin]. `slot` must be readable up to count + 7.
+int run_end(const int* slot, int begin, int count);
+
 }  // namespace hazmap

@@ -18,6 +18,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
 
@@ -46,6 +47,10 @@ struct CcmRule {
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
   static const float* weights(const PointChunk& c) { return c.ccm_weight; }
+  /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
+  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
+    add_plane_run(run, z_ref_m, s);
+  }
   static double mean_z(const Cell& c) { return double(c.z_ref_m) + double(c.mz_off_m); }
 
   static Moments to_moments(const Cell& c) {

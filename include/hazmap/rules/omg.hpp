@@ -15,6 +15,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
 
@@ -55,6 +56,14 @@ struct OmgRule {
   static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
+  /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
+  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
+    const HeightSums h = height_run(run, z_ref_m);
+    s.w += h.w;
+    s.wz += h.wz;
+    s.wzz += h.wzz;
+    s.count += static_cast<std::uint32_t>(run.end - run.begin);
+  }
 
   static Moments to_moments(const Cell& c) {
     Moments m;
