@@ -6,12 +6,15 @@ namespace hazmap {
 namespace {
 
 // Restrict-qualified arrays and selects instead of && or early exits: this is what lets
-// the loop vectorise. Inlined into each HAZMAP_KERNEL clone, so it is compiled per target. Float lanes (twice as many as double): the position error this
-// adds, ~1e-5 cell on a 1000-cell window, is below the float input's own (~5e-7 m at 5 m).
+// the loop vectorise. Inlined into each HAZMAP_KERNEL clone, so it is compiled per target.
+// Float lanes (twice as many as double): the position error this adds is below 3e-5 cell
+// on a 1000-cell window (0.3 um at 1 cm), the order of the float input's own at 5 m.
 template <bool kPlane>
 [[gnu::always_inline]] inline void locate(const float* __restrict px, const float* __restrict py,
-            const float* __restrict lateral_var, int count, const WindowIndex& w,
-            float gate_var, int* __restrict slot, float* __restrict cx, float* __restrict cy) {
+                                          const float* __restrict lateral_var, int count,
+                                          const WindowIndex& w, float gate_var,
+                                          int* __restrict slot, float* __restrict cx,
+                                          float* __restrict cy) {
   const int n = w.size;
   const float x0 = static_cast<float>(w.x0_m), y0 = static_cast<float>(w.y0_m);
   const float inv_r = static_cast<float>(w.inv_resolution), upper = static_cast<float>(n);

@@ -18,8 +18,12 @@ typedef int Int8 __attribute__((vector_size(32)));
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-[[gnu::always_inline]] inline Vec4 keep(Vec4 v, Mask4 live) { return reinterpret_cast<Vec4>(reinterpret_cast<Mask4>(v) & live); }
-[[gnu::always_inline]] inline double total(Vec4 v) { return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3])); }
+[[gnu::always_inline]] inline Vec4 keep(Vec4 v, Mask4 live) {
+  return reinterpret_cast<Vec4>(reinterpret_cast<Mask4>(v) & live);
+}
+[[gnu::always_inline]] inline double total(Vec4 v) {
+  return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]));
+}
 
 }  // namespace
 

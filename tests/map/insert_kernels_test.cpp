@@ -1,11 +1,11 @@
 // The two per-point kernels of a layer's insertion against plain scalar double versions:
 // locate_points (slot and cell-centred position) and add_plane_run (a run's sums).
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/grid_math.hpp"
@@ -97,7 +97,8 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       got.w = 1.0;  // runs add to what is there
       want.w = 1.0;
       add_plane_run(RunPoints{c.ccm_weight, cx.data(), cy.data(), c.z, begin, end}, z_ref, got);
-      for (int k = begin; k < end; ++k) want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
+      for (int k = begin; k < end; ++k)
+        want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
       c.z[end] = saved;
       ASSERT_EQ(got.count, want.count);
       const double tol = 1e-6;

@@ -6,6 +6,7 @@
 
 #include "bench_points.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
 namespace {
@@ -47,6 +48,22 @@ void run_insert(benchmark::State& state, const MapConfig& map) {
       point_layers, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+/// The stack's shared conversion of Measurements into chunks (once per point, whatever
+/// the number of layers); included in every figure above and below.
+void BM_ChunkFill(benchmark::State& state) {
+  const PointCloud& cloud = frame_points(state.range(0) != 0);
+  PointChunk chunk;
+  for (auto _ : state) {
+    for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
+      const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
+      chunk.fill(cloud.data() + start, static_cast<int>(count));
+      benchmark::DoNotOptimize(chunk.x[0]);
+    }
+  }
+  state.counters["ns_per_point"] = benchmark::Counter(
+      double(cloud.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 void BM_Kalman1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}})); }
 void BM_Omg1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::omg, 0.01, 1000}})); }
 void BM_Bananas1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::bananas, 0.01, 1000}})); }
@@ -69,6 +86,7 @@ void BM_ThesisCcmPooled(benchmark::State& s) {
 }
 
 // Argument: 0 = points within 3 m (as the shipped configs' z_max), 1 = within 5 m.
+BENCHMARK(BM_ChunkFill)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kalman1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Omg1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -11,16 +11,16 @@ namespace hazmap {
 
 /// Where a layer's window sits, in the form pass 1 needs.
 struct WindowIndex {
-  double x0_m = 0, y0_m = 0;  ///< lower-left corner of the window's first cell [m]
-  double inv_resolution = 1;  ///< 1 / cell size [1/m]
-  int size = 0;               ///< N: the window is N x N cells
-  int wrap_x = 0, wrap_y = 0; ///< storage column / row of the window's first cell
+  double x0_m = 0, y0_m = 0;   ///< lower-left corner of the window's first cell [m]
+  double inv_resolution = 1;   ///< 1 / cell size [1/m]
+  int size = 0;                ///< N: the window is N x N cells
+  int wrap_x = 0, wrap_y = 0;  ///< storage column / row of the window's first cell
 };
 
 /// Fills slot[i] for the chunk's points: -1 when outside the window. With cx and cy (plane
 /// rules) also the cell-centred position in cell units, and -1 for points whose
 /// lateral_var exceeds gate_var. The output arrays hold at least chunk.size entries.
-void locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var,
-                   int* slot, float* cx, float* cy);
+void locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var, int* slot,
+                   float* cx, float* cy);
 
 }  // namespace hazmap
