@@ -29,39 +29,26 @@ typedef int Int8 __attribute__((vector_size(32)));
 
 HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums) {
   const float z0 = run.z[run.begin];
-  Vec4 w{}, x{}, y{}, z{}, xx{}, yy{}, zz{}, xy{}, xz{}, yz{};
+  WeightedSums<Vec4> lanes;
   const Mask4 lane = {0, 1, 2, 3};
   for (int k = run.begin; k < run.end; k += 4) {
     // Lanes past the run's end are zeroed (their values may be anything, even NaN).
     const Mask4 live = (lane + k) < run.end;
-    const Vec4 pw = keep(load(run.w + k), live);
-    const Vec4 px = keep(load(run.x + k), live);
-    const Vec4 py = keep(load(run.y + k), live);
-    const Vec4 pz = keep(load(run.z + k) - z0, live);
-    const Vec4 wx = pw * px, wy = pw * py, wz = pw * pz;
-    w += pw;
-    x += wx;
-    y += wy;
-    z += wz;
-    xx += wx * px;
-    yy += wy * py;
-    zz += wz * pz;
-    xy += wx * py;
-    xz += wx * pz;
-    yz += wy * pz;
+    lanes.add(keep(load(run.w + k), live), keep(load(run.x + k), live), keep(load(run.y + k), live),
+              keep(load(run.z + k) - z0, live));
   }
-  const double W = total(w), X = total(x), Y = total(y), Z = total(z);
+  const double W = total(lanes.w), X = total(lanes.x), Y = total(lanes.y), Z = total(lanes.z);
   const double d = double(z0) - z_ref_m;
   sums.w += W;
   sums.x += X;
   sums.y += Y;
   sums.z += Z + W * d;
-  sums.xx += total(xx);
-  sums.yy += total(yy);
-  sums.xy += total(xy);
-  sums.zz += total(zz) + d * (2.0 * Z + W * d);
-  sums.xz += total(xz) + d * X;
-  sums.yz += total(yz) + d * Y;
+  sums.xx += total(lanes.xx);
+  sums.yy += total(lanes.yy);
+  sums.xy += total(lanes.xy);
+  sums.zz += total(lanes.zz) + d * (2.0 * Z + W * d);
+  sums.xz += total(lanes.xz) + d * X;
+  sums.yz += total(lanes.yz) + d * Y;
   sums.count += static_cast<std::uint32_t>(run.end - run.begin);
 }
 

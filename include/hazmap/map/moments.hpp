@@ -69,13 +69,16 @@ struct Moments {
 /// (x, y in cell units from the cell centre, z in metres from a per-cell reference
 /// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
 /// in double; to_moments() converts to centred moments. No division per point.
-struct FrameSums {
-  double w = 0, x = 0, y = 0, z = 0, xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
-  std::uint32_t count = 0;
+/// Raw weighted sums of points: sum w, sum w p and sum w p p^T (upper triangle). T is
+/// double for a frame's sums, or a SIMD vector of floats for lanes of a run.
+template <class T>
+struct WeightedSums {
+  T w{}, x{}, y{}, z{}, xx{}, yy{}, zz{}, xy{}, xz{}, yz{};
 
-  void add(double wt, double px, double py, double pz) {
+  // Always inlined: GCC does not otherwise inline into an AVX2 clone (HAZMAP_KERNEL).
+  [[gnu::always_inline]] void add(T wt, T px, T py, T pz) {
     w += wt;
-    const double wx = wt * px, wy = wt * py, wz = wt * pz;
+    const T wx = wt * px, wy = wt * py, wz = wt * pz;
     x += wx;
     y += wy;
     z += wz;
@@ -85,6 +88,14 @@ struct FrameSums {
     xy += wx * py;
     xz += wx * pz;
     yz += wy * pz;
+  }
+};
+
+struct FrameSums : WeightedSums<double> {
+  std::uint32_t count = 0;
+
+  void add(double wt, double px, double py, double pz) {
+    WeightedSums<double>::add(wt, px, py, pz);
     ++count;
   }
 
