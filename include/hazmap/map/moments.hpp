@@ -65,10 +65,6 @@ struct Moments {
   }
 };
 
-/// Raw weighted sums of one frame's points in one cell, relative to a reference point
-/// (x, y in cell units from the cell centre, z in metres from a per-cell reference
-/// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
-/// in double; to_moments() converts to centred moments. No division per point.
 /// Raw weighted sums of points: sum w, sum w p and sum w p p^T (upper triangle). T is
 /// double for a frame's sums, or a SIMD vector of floats for lanes of a run.
 template <class T>
@@ -91,6 +87,10 @@ struct WeightedSums {
   }
 };
 
+/// Raw weighted sums of one frame's points in one cell, relative to a reference point
+/// (x, y in cell units from the cell centre, z in metres from a per-cell reference
+/// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
+/// in double; to_moments() converts to centred moments. No division per point.
 struct FrameSums : WeightedSums<double> {
   std::uint32_t count = 0;
 
