@@ -1,8 +1,10 @@
-// The two per-point kernels of a layer's insertion against plain scalar double versions:
-// locate_points (slot and cell-centred position) and add_plane_run (a run's sums).
+// The per-point kernels of a layer's insertion against plain scalar double versions:
+// locate_points (slot and cell-centred position), add_plane_run and height_run (a run's
+// sums), run_end.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -117,6 +119,61 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       }
     }
   }
+}
+
+TEST(HeightRun, EqualsScalarDoubleSums) {
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> nz(0.0, 0.001);
+  std::uniform_real_distribution<double> wd(1e4, 4e4);
+  PointChunk c;
+  for (int i = 0; i < PointChunk::kStride; ++i) {
+    c.z[i] = float(-80.0 + nz(rng));
+    c.inv_var_z[i] = float(wd(rng));
+  }
+  for (int begin : {0, 2, 7}) {
+    for (int len = 1; len <= 19; ++len) {
+      const int end = begin + len;
+      const float saved = c.z[end];
+      c.z[end] = std::numeric_limits<float>::quiet_NaN();
+      const double z_ref = -80.002;
+      const HeightSums got =
+          height_run(RunPoints{c.inv_var_z, nullptr, nullptr, c.z, begin, end}, z_ref);
+      c.z[end] = saved;
+      double w = 0, wz = 0, wzz = 0;
+      for (int k = begin; k < end; ++k) {
+        const double dz = double(c.z[k]) - z_ref;
+        w += c.inv_var_z[k];
+        wz += c.inv_var_z[k] * dz;
+        wzz += c.inv_var_z[k] * dz * dz;
+      }
+      EXPECT_NEAR(got.w, w, 1e-6 * w);
+      EXPECT_NEAR(got.wz / got.w, wz / w, 1e-8) << begin << "+" << len;  // mean, m
+      const double var_got = got.wzz / got.w - (got.wz / got.w) * (got.wz / got.w);
+      const double var_want = wzz / w - (wz / w) * (wz / w);
+      EXPECT_NEAR(var_got, var_want, 1e-3 * var_want + 1e-12) << begin << "+" << len;
+    }
+  }
+}
+
+TEST(RunEnd, FindsTheFirstDifferentSlot) {
+  std::vector<int> slot(PointChunk::kStride, -1);
+  std::mt19937_64 rng(3);
+  std::geometric_distribution<int> run_length(0.05);  // runs of 1 to ~100
+  const int count = 1000;
+  for (int i = 0, value = 0; i < count; ++value) {
+    const int len = 1 + run_length(rng);
+    for (int k = i; k < std::min(count, i + len); ++k) slot[k] = value;
+    i += len;
+  }
+  for (int i = 0; i < count;) {
+    int want = i + 1;
+    while (want < count && slot[want] == slot[i]) ++want;
+    ASSERT_EQ(run_end(slot.data(), i, count), want) << "run at " << i;
+    i = want;
+  }
+  // A run that reaches the end of the chunk stops at count, whatever lies beyond.
+  std::fill(slot.begin(), slot.end(), 4);
+  EXPECT_EQ(run_end(slot.data(), 990, count), count);
 }
 
 }  // namespace
