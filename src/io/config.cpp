@@ -221,6 +221,9 @@ void validate(const Config& c) {
 
   if (!(c.sensor.pointing_error_px >= 0)) invalid("sensor.pointing_error_px", "must be >= 0");
   if (!(c.sensor.disparity_error_px > 0)) invalid("sensor.disparity_error_px", "must be > 0");
+  // Without pointing error the covariance is singular: every det weight would be infinite.
+  if (c.rules.ccm.weighting == "det" && !(c.sensor.pointing_error_px > 0))
+    invalid("rules.ccm.weighting", "'det' needs sensor.pointing_error_px > 0 (singular covariance)");
 
   if (c.map.layers.empty()) invalid("map.layers", "at least one layer is required");
   for (size_t i = 0; i < c.map.layers.size(); ++i) {

@@ -44,8 +44,7 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
 
 LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose_uncertainty)
     : pooling_(map.insertion == "finest_then_pool"),
-      track_pose_(pose_uncertainty),
-      chunk_(std::make_unique<PointChunk>()) {
+      track_pose_(pose_uncertainty) {
   for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, i));
   pools_.resize(layers_.size());
   if (pooling_)
@@ -66,14 +65,12 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
     for (std::size_t i = 1; i < layers_.size(); ++i) layers_[i]->update_coverage(layers_[i - 1]->grid());
 }
 
-std::size_t LayerStack::insert(const PointCloud& cloud) {
-  // Each chunk is converted once and read by every layer while it is in cache.
-  PointChunk& chunk = *chunk_;
+std::size_t LayerStack::insert(const MapPoints& points) {
+  // Each chunk is read by every layer while it is in cache.
   std::size_t updates = 0;
   for (auto& layer : layers_) layer->begin_insert();
-  for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
-    const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
-    chunk.fill(cloud.data() + start, static_cast<int>(count));
+  for (int start = 0; start < points.size(); start += PointChunk::kCapacity) {
+    const PointChunk chunk = points.chunk(start, std::min(PointChunk::kCapacity, points.size() - start));
     for (auto& layer : layers_) updates += layer->insert_chunk(chunk);
   }
   for (auto& layer : layers_) layer->end_insert();

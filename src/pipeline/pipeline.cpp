@@ -63,15 +63,14 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   report.ms.rectify_ms = stereo.grey_ms + stereo.rectify_ms;
   report.ms.disparity_ms = stereo.disparity_ms;
   auto t = Clock::now();
-  PointCloud& cloud = front_.cloud();
-  prepare_measurements(cloud, weighting_);
-  report.points = cloud.size();
+  points_.assign(front_.cloud(), weighting_);
+  report.points = front_.cloud().size();
   report.ms.points_ms = stereo.points_ms + ms_since(t);
 
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
   map_.begin_frame(robot.x(), robot.y(), noise);
-  report.updates = map_.insert(cloud);
+  report.updates = map_.insert(points_);
   report.ms.map_ms = ms_since(t);
 
   t = Clock::now();

@@ -49,10 +49,9 @@ std::vector<LayerView> map_surface(const Config& config, const Surface& h, doubl
       m.cov_zz = float(sigma_m * sigma_m);
       cloud.push_back(m);
     }
-  prepare_measurements(cloud, CcmWeighting::constant);
   LayerStack stack(config.map, config.rules);
   stack.begin_frame(0.001, 0.001);
-  stack.insert(cloud);
+  stack.insert(MapPoints(cloud));
   std::vector<LayerView> views(stack.size());
   RoughnessFilter filter;
   for (size_t i = 0; i < stack.size(); ++i) {

@@ -70,6 +70,10 @@ TEST(Config, ImpossibleValuesAreNamed) {
   EXPECT_NE(multiple.find("'map.layers.1.resolution': must be an integer multiple"),
             std::string::npos)
       << multiple;
+  EXPECT_NE(config_error(std::string(kMinimal) +
+                         "sensor: {pointing_error_px: 0}\nrules: {ccm: {weighting: det}}\n")
+                .find("'rules.ccm.weighting': 'det' needs sensor.pointing_error_px > 0"),
+            std::string::npos);
   EXPECT_NE(config_error(std::string(kMinimal) + "sensor: {model: cone}\n")
                 .find("'sensor.model': 'cone' is not one of axis | ray"),
             std::string::npos);

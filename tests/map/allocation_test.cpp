@@ -43,7 +43,6 @@ void fill_cloud(PointCloud& cloud, std::mt19937_64& rng, double cx) {
     m.cov_xy = m.cov_xz = m.cov_yz = 0.0f;
     m.cov_zz = 4e-6f;
   }
-  prepare_measurements(cloud, CcmWeighting::trace);
 }
 
 void run(const std::string& insertion, bool pose) {
@@ -62,6 +61,7 @@ void run(const std::string& insertion, bool pose) {
   rules.ccm.max_std_ratio = 2.0;
   LayerStack stack(map, rules, pose);
   PointCloud cloud(50000);
+  MapPoints points;
   std::mt19937_64 rng(1);
   std::vector<LayerGrids> grids(stack.size());
   RoughnessFilter filter;
@@ -74,7 +74,8 @@ void run(const std::string& insertion, bool pose) {
     if (frame == 1) after_first = g_news.load();
     fill_cloud(cloud, rng, 0.1 * frame);  // the robot drives 10 cm per frame: layers roll
     stack.begin_frame(0.1 * frame, 0.0, PoseNoise{0.001, 0.001, 0.001, 0.001});
-    stack.insert(cloud);
+    points.assign(cloud, CcmWeighting::trace);
+    stack.insert(points);
     for (size_t i = 0; i < stack.size(); ++i) {
       stack.export_layer(i, grids[i]);
       filter.compute(grids[i].height, 5, range, fill);

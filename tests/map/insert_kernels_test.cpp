@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/grid_math.hpp"
@@ -16,6 +17,17 @@
 
 namespace hazmap {
 namespace {
+
+/// Writable arrays behind a PointChunk view (kStride entries each).
+struct ChunkArrays {
+  std::vector<float> x, y, z, inv_var_z, ccm_weight, lateral_var;
+  ChunkArrays() {
+    for (auto* v : {&x, &y, &z, &inv_var_z, &ccm_weight, &lateral_var}) v->assign(PointChunk::kStride, 0.0f);
+  }
+  PointChunk view(int size) const {
+    return PointChunk{x.data(), y.data(), z.data(), inv_var_z.data(), ccm_weight.data(), lateral_var.data(), size};
+  }
+};
 
 TEST(LocatePoints, MatchesScalarFloorAndModulo) {
   std::mt19937_64 rng(5);
@@ -33,9 +45,9 @@ TEST(LocatePoints, MatchesScalarFloorAndModulo) {
     w.wrap_x = wrap_index(grid.origin_x(), n);
     w.wrap_y = wrap_index(grid.origin_y(), n);
     std::uniform_real_distribution<double> u(-0.2, 1.2);  // some points outside
-    PointChunk chunk;
-    chunk.size = PointChunk::kCapacity;
-    for (int i = 0; i < chunk.size; ++i) {
+    ChunkArrays chunk;
+    const int size = PointChunk::kCapacity;
+    for (int i = 0; i < size; ++i) {
       chunk.x[i] = float(w.x0_m + u(rng) * n * r);
       chunk.y[i] = float(w.y0_m + u(rng) * n * r);
       chunk.lateral_var[i] = float(i % 3) * 1e-6f;
@@ -45,9 +57,9 @@ TEST(LocatePoints, MatchesScalarFloorAndModulo) {
     std::vector<int> slot(PointChunk::kStride);
     std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
     const float gate = 1.5e-6f;
-    locate_points(chunk, w, gate, slot.data(), cx.data(), cy.data());
+    locate_points(chunk.view(size), w, gate, slot.data(), cx.data(), cy.data());
     int inside = 0, boundary = 0;
-    for (int i = 0; i < chunk.size; ++i) {
+    for (int i = 0; i < size; ++i) {
       const double fx = (double(chunk.x[i]) - w.x0_m) / r, fy = (double(chunk.y[i]) - w.y0_m) / r;
       // Points within 1e-4 cell of a cell edge may fall either way in float arithmetic.
       if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) {
@@ -67,10 +79,10 @@ TEST(LocatePoints, MatchesScalarFloorAndModulo) {
       EXPECT_NEAR(cx[i], fx - lx - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
       EXPECT_NEAR(cy[i], fy - ly - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
     }
-    EXPECT_GT(inside, chunk.size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
+    EXPECT_GT(inside, size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
     EXPECT_LT(boundary, 20);
     // Without position outputs no gate applies.
-    locate_points(chunk, w, gate, slot.data(), nullptr, nullptr);
+    locate_points(chunk.view(size), w, gate, slot.data(), nullptr, nullptr);
     EXPECT_EQ(slot[7], -1);
     EXPECT_EQ(slot[9], -1);
   }
@@ -80,7 +92,7 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.5, 0.5), wd(0.5, 2.0);
   std::normal_distribution<double> nz(0.0, 0.002);
-  PointChunk c;
+  ChunkArrays c;
   std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
   for (int i = 0; i < PointChunk::kStride; ++i) {
     cx[i] = float(u(rng));
@@ -98,7 +110,7 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       FrameSums got, want;
       got.w = 1.0;  // runs add to what is there
       want.w = 1.0;
-      add_plane_run(RunPoints{c.ccm_weight, cx.data(), cy.data(), c.z, begin, end}, z_ref, got);
+      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end}, z_ref, got);
       for (int k = begin; k < end; ++k)
         want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
       c.z[end] = saved;
@@ -125,7 +137,7 @@ TEST(HeightRun, EqualsScalarDoubleSums) {
   std::mt19937_64 rng(13);
   std::normal_distribution<double> nz(0.0, 0.001);
   std::uniform_real_distribution<double> wd(1e4, 4e4);
-  PointChunk c;
+  ChunkArrays c;
   for (int i = 0; i < PointChunk::kStride; ++i) {
     c.z[i] = float(-80.0 + nz(rng));
     c.inv_var_z[i] = float(wd(rng));
@@ -137,7 +149,7 @@ TEST(HeightRun, EqualsScalarDoubleSums) {
       c.z[end] = std::numeric_limits<float>::quiet_NaN();
       const double z_ref = -80.002;
       const HeightSums got =
-          height_run(RunPoints{c.inv_var_z, nullptr, nullptr, c.z, begin, end}, z_ref);
+          height_run(RunPoints{c.inv_var_z.data(), nullptr, nullptr, c.z.data(), begin, end}, z_ref);
       c.z[end] = saved;
       double w = 0, wz = 0, wzz = 0;
       for (int k = begin; k < end; ++k) {

@@ -3,6 +3,7 @@
 #include "hazmap/map/layer_stack.hpp"
 
 #include <cmath>
+#include <map>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -32,7 +33,6 @@ PointCloud random_cloud(std::mt19937_64& rng, int n, double extent) {
     const double z = 0.1 * x - 0.05 * y + 0.02 * std::sin(13 * x) * std::cos(7 * y) + sz * noise(rng);
     cloud.push_back(point(x, y, z, sz));
   }
-  prepare_measurements(cloud, CcmWeighting::constant);
   return cloud;
 }
 
@@ -68,7 +68,7 @@ double pooled_vs_all_layers(RuleKind rule, const RulesConfig& rules, std::vector
     const PointCloud cloud = random_cloud(rng, 20000, 0.6);
     for (LayerStack* s : {&all, &pool}) {
       s->begin_frame(0.001, 0.002);  // no rolling
-      s->insert(cloud);
+      s->insert(MapPoints(cloud));
     }
   }
   double worst = 0;
@@ -128,12 +128,11 @@ TEST(LayerStack, GateDropsPointsWithLargeLateralSpreadForCcmLayers) {
   LayerStack s(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), rules);
   s.begin_frame(0, 0);
   PointCloud cloud{point(0.01, 0.01, 0, 0.01, 0.005), point(0.01, 0.01, 0, 0.01, 0.02)};
-  prepare_measurements(cloud, CcmWeighting::constant);
-  EXPECT_EQ(s.insert(cloud), 1u);
+  EXPECT_EQ(s.insert(MapPoints(cloud)), 1u);
   rules.ccm.max_std_ratio = 0.0;
   LayerStack open(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), rules);
   open.begin_frame(0, 0);
-  EXPECT_EQ(open.insert(cloud), 2u);
+  EXPECT_EQ(open.insert(MapPoints(cloud)), 2u);
 }
 
 TEST(LayerStack, PoseUncertaintyInflatesVarianceBySpec7) {
@@ -147,8 +146,7 @@ TEST(LayerStack, PoseUncertaintyInflatesVarianceBySpec7) {
       const double x = (ix + 0.5) * 0.1, y = (iy + 0.5) * 0.1;
       cloud.push_back(point(x, y, 0.5 * x, 0.01));
     }
-  prepare_measurements(cloud, CcmWeighting::constant);
-  s.insert(cloud);
+  s.insert(MapPoints(cloud));
   const PoseNoise noise{0.01, 0.02, 0.005, 0.01};
   s.begin_frame(0.05, 0.05, noise);
   s.begin_frame(0.05, 0.05, noise);
@@ -163,6 +161,69 @@ TEST(LayerStack, PoseUncertaintyInflatesVarianceBySpec7) {
   EXPECT_NEAR(g.variance.at(row, col), expected, 1e-6 * expected);
 }
 
+/// Each fusing rule's layer, fed scan lines (runs of consecutive points per cell, as the
+/// pipeline produces them) over three frames, equals a batch computation in double per
+/// cell: Kalman and OMG the inverse-variance mean and weight, CCM the weighted moments.
+TEST(LayerStack, ScanLineInsertionEqualsBatchPerCell) {
+  const double r = 0.04;
+  const int n = 16;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::uniform_real_distribution<double> jitter(-0.4, 0.4), sigma(0.002, 0.01);
+  PointCloud cloud;
+  for (int frame = 0; frame < 3; ++frame)
+    for (int line = 0; line < 90; ++line)  // scan lines across y, ~9 points per cell
+      for (int k = 0; k < 140; ++k) {
+        const double x = -0.3 + (line + jitter(rng)) * 0.0066, y = -0.3 + (k + jitter(rng)) * 0.0043;
+        const double sz = sigma(rng);
+        cloud.push_back(point(x, y, 0.4 + 0.1 * x - 0.05 * y + sz * noise(rng), sz));
+      }
+  const std::size_t per_frame = cloud.size() / 3;
+  // Batch moments per global cell index, in double.
+  std::map<std::pair<CellIndex, CellIndex>, std::vector<const Measurement*>> cells;
+  for (const Measurement& m : cloud) cells[{cell_index(m.p_W.x(), r), cell_index(m.p_W.y(), r)}].push_back(&m);
+  for (RuleKind rule : {RuleKind::kalman, RuleKind::omg, RuleKind::ccm}) {
+    LayerStack s(stack(rule, "all_layers", {{r, n}}), uncapped());
+    for (int frame = 0; frame < 3; ++frame) {
+      s.begin_frame(0.0, 0.0);
+      const PointCloud part(cloud.begin() + frame * per_frame, cloud.begin() + (frame + 1) * per_frame);
+      s.insert(MapPoints(part));
+    }
+    int compared = 0;
+    for (const auto& [key, pts] : cells) {
+      const Moments got = s.layer(0).cell_moments(key.first, key.second);
+      ASSERT_FALSE(got.empty());
+      Moments ref;
+      for (const Measurement* m : pts) {
+        const double w = rule == RuleKind::ccm ? 1.0 : 1.0 / double(m->cov_zz);
+        ref.w += w;
+        ref.mz += w * m->p_W.z();
+        ref.mx += w * (m->p_W.x() - cell_center(key.first, r));
+      }
+      ref.mz /= ref.w;
+      ref.mx /= ref.w;
+      double szz = 0;
+      for (const Measurement* m : pts) {
+        const double w = rule == RuleKind::ccm ? 1.0 : 1.0 / double(m->cov_zz);
+        szz += w * (m->p_W.z() - ref.mz) * (m->p_W.z() - ref.mz);
+      }
+      const double spread = std::sqrt(szz / ref.w);
+      ASSERT_NEAR(got.w, ref.w, 1e-6 * ref.w) << rule_name(rule);
+      ASSERT_NEAR(got.mz, ref.mz, 1e-5 * spread) << rule_name(rule);
+      if (rule == RuleKind::ccm) {
+        ASSERT_NEAR(got.mx, ref.mx, 1e-5 * r);
+        ASSERT_NEAR(got.szz, szz, 1e-5 * szz);
+      }
+      if (rule == RuleKind::omg) {
+        const double expected = szz + double(pts.size());  // spread + one per point
+        ASSERT_NEAR(got.szz, expected, 1e-5 * expected);
+      }
+      ++compared;
+    }
+    EXPECT_GT(compared, 100);
+  }
+}
+
 TEST(LayerStack, CcmLayerExportsPlaneGrids) {
   LayerStack s(stack(RuleKind::ccm, "all_layers", {{0.04, 8}}), uncapped());
   s.begin_frame(0.0, 0.0);
@@ -172,8 +233,7 @@ TEST(LayerStack, CcmLayerExportsPlaneGrids) {
       const double x = -0.16 + (i + 0.5) * 0.002, y = -0.16 + (j + 0.5) * 0.002;
       cloud.push_back(point(x, y, 0.2 * x - 0.1 * y + 1.0, 0.001));
     }
-  prepare_measurements(cloud, CcmWeighting::constant);
-  s.insert(cloud);
+  s.insert(MapPoints(cloud));
   LayerGrids g;
   s.export_layer(0, g);
   ASSERT_EQ(g.slope_x.rows, 8);

@@ -93,7 +93,7 @@ TEST(RollingLayer, KeepsCellsInViewAndClearsCellsThatLeaveLikeACopyAndShiftRefer
       const CellIndex ix = cell_index(m.p_W.x(), r), iy = cell_index(m.p_W.y(), r);
       if (g.contains(ix, iy)) reference[{ix, iy}] = m.p_W.z();
     }
-    layer.insert(cloud);
+    layer.insert(MapPoints(cloud));
     for (CellIndex iy = g.origin_y(); iy < g.origin_y() + n; ++iy)
       for (CellIndex ix = g.origin_x(); ix < g.origin_x() + n; ++ix) {
         const auto it = reference.find({ix, iy});
@@ -118,7 +118,7 @@ TEST(RollingLayer, MovingKCellsKeepsValuesOfCellsStillInView) {
       m.p_W = Eigen::Vector3f(float(ix) + 0.5f, float(iy) + 0.5f, float(100 * ix + iy));
       cloud.push_back(m);
     }
-  EXPECT_EQ(layer.insert(cloud), 64u);
+  EXPECT_EQ(layer.insert(MapPoints(cloud)), 64u);
   layer.begin_frame(3.5, 0.1, 0);  // 3 cells east of the block: the window shifts by 3
   EXPECT_EQ(layer.grid().origin_x(), -4 + 3);
   for (int iy = -4; iy < 4; ++iy)
@@ -134,7 +134,7 @@ TEST(RollingLayer, JumpLargerThanTheWindowClearsEverything) {
   layer.begin_frame(0, 0, 0);
   PointCloud cloud(1);
   cloud[0].p_W = Eigen::Vector3f(0.5f, 0.5f, 1.0f);
-  layer.insert(cloud);
+  layer.insert(MapPoints(cloud));
   layer.begin_frame(100, 0, 0);
   layer.begin_frame(0, 0, 0);
   EXPECT_TRUE(std::isnan(BananasRule::height(layer.cell(0, 0))));

@@ -15,7 +15,7 @@ TEST(KalmanRule, FirstPointInitialisesTheCell) {
   KalmanRule::update({0.0, 0.0}, c, 0.25, 4e-6);
   EXPECT_TRUE(KalmanRule::known(c));
   EXPECT_DOUBLE_EQ(KalmanRule::mean(c), 0.25);
-  EXPECT_FLOAT_EQ(c.variance_m2, 4e-6f);
+  EXPECT_FLOAT_EQ(KalmanRule::variance(c), 4e-6f);
 }
 
 TEST(KalmanRule, EqualsBatchInverseVarianceEstimate) {
@@ -34,7 +34,7 @@ TEST(KalmanRule, EqualsBatchInverseVarianceEstimate) {
       sum_wz += z / (s * s);
     }
     EXPECT_NEAR(KalmanRule::mean(c), sum_wz / sum_w, 1e-5 * std::max(1.0, std::abs(sum_wz / sum_w)));
-    EXPECT_NEAR(c.variance_m2, 1.0 / sum_w, 1e-5 / sum_w);
+    EXPECT_NEAR(KalmanRule::variance(c), 1.0 / sum_w, 1e-5 / sum_w);
   }
 }
 
@@ -42,7 +42,7 @@ TEST(KalmanRule, VarianceFloorStopsConvergence) {
   const KalmanRule::Config cfg{0.0, 1e-6};
   KalmanRule::Cell c;
   for (int i = 0; i < 1000; ++i) KalmanRule::update(cfg, c, 0.0, 1e-5);
-  EXPECT_FLOAT_EQ(c.variance_m2, 1e-6f);
+  EXPECT_FLOAT_EQ(KalmanRule::variance(c), 1e-6f);
   // At the floor each new measurement keeps a fixed weight vm_floor / (floor + vm).
   KalmanRule::update(cfg, c, 1.0, 1e-5);
   EXPECT_NEAR(KalmanRule::mean(c), 1e-6 / (1e-6 + 1e-5), 1e-6);
@@ -56,7 +56,7 @@ TEST(KalmanRule, TimeInflationAddsQPerFrameToKnownCellsOnly) {
     KalmanRule::begin_frame(cfg, known);
     KalmanRule::begin_frame(cfg, unknown);
   }
-  EXPECT_NEAR(known.variance_m2, 1e-5 + 3 * 2e-6, 1e-11);
+  EXPECT_NEAR(KalmanRule::variance(known), 1e-5 + 3 * 2e-6, 1e-11);
   EXPECT_FALSE(KalmanRule::known(unknown));
 }
 

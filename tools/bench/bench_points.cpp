@@ -30,7 +30,6 @@ void scanline_ground_points(PointCloud& cloud, int width, int height, double x0_
       m.cov_xz = float(dep * dep * 0.45);
       cloud.push_back(m);
     }
-  prepare_measurements(cloud, CcmWeighting::constant);
 }
 
 }  // namespace hazmap::bench

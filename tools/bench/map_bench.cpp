@@ -6,18 +6,26 @@
 
 #include "bench_points.hpp"
 #include "hazmap/map/layer_stack.hpp"
-#include "hazmap/map/point_chunk.hpp"
+#include "hazmap/map/map_points.hpp"
 
 namespace hazmap {
 namespace {
 
 /// One frame's ground points within the shipped configs' z_max (3 m), or within 5 m
 /// (far-field points: mostly one point per 1 cm cell, i.e. a cache miss each).
-const PointCloud& frame_points(bool far) {
+const PointCloud& frame_cloud(bool far) {
   static PointCloud near_cloud, far_cloud;
   PointCloud& c = far ? far_cloud : near_cloud;
   if (c.empty()) bench::scanline_ground_points(c, 640, 520, 0.0, far ? 5.0 : 3.0);
   return c;
+}
+
+/// The same points as the map reads them (made once per frame in the points stage).
+const MapPoints& frame_points(bool far) {
+  static MapPoints near_points, far_points;
+  MapPoints& p = far ? far_points : near_points;
+  if (p.size() == 0) p.assign(frame_cloud(far), CcmWeighting::constant);
+  return p;
 }
 
 MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
@@ -37,28 +45,25 @@ MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
 void run_insert(benchmark::State& state, const MapConfig& map) {
   RulesConfig rules;
   LayerStack stack(map, rules);
-  const PointCloud& cloud = frame_points(state.range(0) != 0);
+  const MapPoints& points = frame_points(state.range(0) != 0);
   stack.begin_frame(0.0, 0.0);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(stack.insert(cloud));
+    benchmark::DoNotOptimize(stack.insert(points));
   }
-  const double point_layers = double(cloud.size()) * double(map.layers.size());
-  state.counters["points"] = double(cloud.size());
+  const double point_layers = double(points.size()) * double(map.layers.size());
+  state.counters["points"] = double(points.size());
   state.counters["ns_per_point_layer"] = benchmark::Counter(
       point_layers, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-/// The stack's shared conversion of Measurements into chunks (once per point, whatever
-/// the number of layers); included in every figure above and below.
-void BM_ChunkFill(benchmark::State& state) {
-  const PointCloud& cloud = frame_points(state.range(0) != 0);
-  PointChunk chunk;
+/// The points stage's conversion of a frame's Measurements into MapPoints (once per
+/// point and frame, whatever the number of layers; not part of the figures below).
+void BM_MapPointsAssign(benchmark::State& state) {
+  const PointCloud& cloud = frame_cloud(state.range(0) != 0);
+  MapPoints points;
   for (auto _ : state) {
-    for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
-      const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
-      chunk.fill(cloud.data() + start, static_cast<int>(count));
-      benchmark::DoNotOptimize(chunk.x[0]);
-    }
+    points.assign(cloud, CcmWeighting::constant);
+    benchmark::DoNotOptimize(points.chunk(0, 1).x);
   }
   state.counters["ns_per_point"] = benchmark::Counter(
       double(cloud.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
@@ -74,6 +79,11 @@ void BM_FlightStack(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
                           {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
 }
+/// The flight stack without its Kalman layer: the difference to BM_FlightStack is the
+/// Kalman layer's marginal cost inside the stack (the shared chunk conversion excluded).
+void BM_FlightStackCcmOnly(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}, {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
+}
 /// Thesis CCM stack (Table 7.4) in both insertion modes.
 void BM_ThesisCcmAllLayers(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::ccm, 0.04, 42}, {RuleKind::ccm, 0.08, 32}, {RuleKind::ccm, 0.16, 28},
@@ -86,13 +96,14 @@ void BM_ThesisCcmPooled(benchmark::State& s) {
 }
 
 // Argument: 0 = points within 3 m (as the shipped configs' z_max), 1 = within 5 m.
-BENCHMARK(BM_ChunkFill)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MapPointsAssign)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kalman1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Omg1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm4cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm16cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlightStackCcmOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThesisCcmAllLayers)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThesisCcmPooled)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 

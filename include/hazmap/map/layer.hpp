@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "hazmap/map/dense_grid.hpp"
-#include "hazmap/map/measurement.hpp"
+#include "hazmap/map/map_points.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/pose_uncertainty.hpp"
@@ -54,15 +54,11 @@ class Layer {
   virtual void end_insert() = 0;
 
   /// The whole frame at once (tests; LayerStack::insert shares chunks between layers).
-  std::size_t insert(const PointCloud& cloud) {
-    PointChunk chunk;
+  std::size_t insert(const MapPoints& points) {
     begin_insert();
     std::size_t used = 0;
-    for (std::size_t start = 0; start < cloud.size(); start += PointChunk::kCapacity) {
-      const std::size_t count = std::min<std::size_t>(PointChunk::kCapacity, cloud.size() - start);
-      chunk.fill(cloud.data() + start, static_cast<int>(count));
-      used += insert_chunk(chunk);
-    }
+    for (int start = 0; start < points.size(); start += PointChunk::kCapacity)
+      used += insert_chunk(points.chunk(start, std::min(PointChunk::kCapacity, points.size() - start)));
     end_insert();
     return used;
   }

@@ -27,10 +27,9 @@ class LayerStack {
   /// `noise`: pose noise added since the previous frame (SPEC 2), if known.
   void begin_frame(double robot_x_m, double robot_y_m, const PoseNoise& noise = {});
 
-  /// Inserts the frame's points (prepare_measurements must have filled the derived
-  /// fields) and, in finest_then_pool mode, rebuilds covered coarse cells from their
-  /// children. Returns the number of point-into-layer updates.
-  std::size_t insert(const PointCloud& cloud);
+  /// Inserts the frame's points and, in finest_then_pool mode, rebuilds covered coarse
+  /// cells from their children. Returns the number of point-into-layer updates.
+  std::size_t insert(const MapPoints& points);
 
   /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
   void export_layer(std::size_t i, LayerGrids& out) const;
@@ -46,7 +45,6 @@ class LayerStack {
   std::vector<PoolGrid> pools_;  ///< pools_[i]: children of layer i (i >= 1)
   bool pooling_ = false;
   bool track_pose_ = false;
-  std::unique_ptr<PointChunk> chunk_;  ///< the frame's points, a chunk at a time
   PoseUncertainty pose_;
   std::uint32_t frame_ = 0;
   bool started_ = false;

@@ -1,9 +1,8 @@
 #pragma once
-// A slice of a frame's points as a structure of arrays. The layer stack converts each
-// slice of the Measurement stream once and every layer reads it while it is in cache;
-// plain float arrays let the compiler run the per-point index arithmetic in SIMD lanes.
-
-#include "hazmap/map/measurement.hpp"
+// A slice of a frame's points as the layers read them: one float array per field
+// (structure of arrays), so that the per-point index arithmetic runs in SIMD lanes. A
+// view into MapPoints; the layer stack hands each slice to every layer in turn while it
+// is in cache.
 
 namespace hazmap {
 
@@ -13,17 +12,13 @@ struct PointChunk {
   static constexpr int kPad = 16;
   static constexpr int kStride = kCapacity + kPad;
 
-  alignas(64) float x[kStride];  ///< world frame [m]
-  alignas(64) float y[kStride];
-  alignas(64) float z[kStride];
-  alignas(64) float inv_var_z[kStride];    ///< Kalman and OMG weight
-  alignas(64) float ccm_weight[kStride];   ///< CCM weight
-  alignas(64) float lateral_var[kStride];  ///< CCM gate
-  int size = 0;
-
-  PointChunk();
-  /// Copies `count` <= kCapacity points.
-  void fill(const Measurement* points, int count);
+  const float* x = nullptr;  ///< world frame [m]
+  const float* y = nullptr;
+  const float* z = nullptr;
+  const float* inv_var_z = nullptr;    ///< Kalman and OMG weight 1 / Sigma_zz
+  const float* ccm_weight = nullptr;   ///< CCM weight (SPEC 4)
+  const float* lateral_var = nullptr;  ///< max(Sigma_xx, Sigma_yy): the CCM gate
+  int size = 0;                        ///< <= kCapacity; every array readable to size + kPad
 };
 
 }  // namespace hazmap

@@ -1,6 +1,6 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
-// Cell, Sums and static known / clear / reference_z / weights / merge_frame /
+// Cell, Sums, kMergePerRun and static known / clear / reference_z / weights / merge_frame /
 // begin_frame / to_moments / from_moments / height / variance).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
@@ -8,8 +8,11 @@
 // axis (no division by the resolution), a floor, an unsigned bounds test and a
 // conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 walks
 // the runs of equal slots (scan lines cross cells in runs) and sums each run in
-// registers into the cell's frame accumulator. Per frame each touched cell is merged
-// once. All buffers are allocated in the constructor.
+// registers. Rules whose merge does not depend on how a frame's points are grouped
+// (Rule::kMergePerRun: Kalman, the baseline) merge each run straight into its cell; the
+// others (CCM and OMG apply their weight cap once per frame, SPEC 6.3-6.4) add it to the
+// cell's frame accumulator and merge each touched cell once per frame. All buffers are
+// allocated in the constructor.
 
 #include <algorithm>
 #include <cmath>
@@ -35,10 +38,10 @@ class RollingLayer final : public Layer {
         gate_var_(gate_std_m > 0 ? static_cast<float>(gate_std_m * gate_std_m)
                                  : std::numeric_limits<float>::infinity()),
         cells_(cell_count()),
-        accumulators_(cell_count()),
+        accumulators_(Rule::kMergePerRun ? 0 : cell_count()),
         updated_frame_(cell_count(), 0),
-        frame_index_(cell_count(), 0),
-        touched_(cell_count(), 0),
+        frame_index_(Rule::kMergePerRun ? 0 : cell_count(), 0),
+        touched_(Rule::kMergePerRun ? 0 : cell_count(), 0),
         slot_buf_(PointChunk::kStride, -1),
         x_buf_(PointChunk::kStride, 0.0f),
         y_buf_(PointChunk::kStride, 0.0f) {
@@ -87,10 +90,26 @@ class RollingLayer final : public Layer {
       // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
       const int ahead = slot[std::min(end + kPrefetchPoints, count - 1)];
       if (ahead >= 0) {
-        __builtin_prefetch(&frame_index_[ahead]);
         __builtin_prefetch(&cells_[ahead]);
+        if constexpr (Rule::kMergePerRun)
+          __builtin_prefetch(&updated_frame_[ahead]);
+        else
+          __builtin_prefetch(&frame_index_[ahead]);
       }
-      if (s >= 0 && !(pooled && covered_[s])) {  // covered: the finer layer holds its points
+      if (s < 0 || (pooled && covered_[s])) {  // covered: the finer layer holds its points
+        i = end;
+        continue;
+      }
+      used += static_cast<std::size_t>(end - i);
+      if constexpr (Rule::kMergePerRun) {
+        // The run goes straight into the cell: no frame accumulator, no second pass.
+        typename Rule::Cell& c = cells_[s];
+        const float z_ref = Rule::known(c) ? Rule::reference_z(c) : chunk.z[i];
+        typename Rule::Sums sums;
+        Rule::add_run(sums, RunPoints{w, cx, cy, chunk.z, i, end}, z_ref);
+        Rule::merge_frame(config_, c, sums, z_ref, grid_.resolution_m());
+        updated_frame_[s] = frame_;
+      } else {
         // Sparse set: frame_index_[s] is valid only if touched_ points back to s. The
         // frame's accumulators are packed in touch order, so they stay in cache.
         int k = frame_index_[s];
@@ -104,7 +123,6 @@ class RollingLayer final : public Layer {
         }
         Accumulator& a = accumulators_[k];
         Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end}, a.z_ref);
-        used += static_cast<std::size_t>(end - i);
       }
       i = end;
     }

@@ -76,6 +76,7 @@ class Pipeline {
   StereoFrontEnd front_;
   LayerStack map_;
   CcmWeighting weighting_;
+  MapPoints points_;  ///< the frame's points as the map reads them
   RoughnessFilter roughness_;
   std::vector<RoughnessParams> roughness_params_;
   std::vector<CcmHazardParams> ccm_params_;

@@ -15,6 +15,8 @@ namespace hazmap {
 struct BananasRule {
   static constexpr const char* kName = "bananas";
   static constexpr bool kHasPlane = false;
+  /// The last point wins whatever the grouping.
+  static constexpr bool kMergePerRun = true;
 
   struct Config {};
   struct Cell {

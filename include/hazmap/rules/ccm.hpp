@@ -25,6 +25,8 @@ namespace hazmap {
 struct CcmRule {
   static constexpr const char* kName = "ccm";
   static constexpr bool kHasPlane = true;
+  /// The weight cap applies once per frame (SPEC 6.4).
+  static constexpr bool kMergePerRun = false;
 
   struct Config {
     double max_weight = 500;    ///< W_l: weight cap applied once per frame

@@ -7,13 +7,15 @@
 //   per frame:    var += time_inflation on every known cell (forgetting, so that the
 //                 map can re-converge when the terrain or the pose estimate changes)
 //
-// vm is the measurement's height variance Sigma_W(2,2) (SPEC 4). A frame's points in a
-// cell are summed in information form (sum 1/vm, sum z/vm) and merged once per frame:
-// this equals the point-by-point recursion above exactly (both are the inverse-variance
-// weighted mean, variance 1 / sum(1/vm)); only the floor is applied once per frame
-// instead of after every point, as for the CCM weight cap (SPEC 6.4).
-// The mean is stored as a float reference plus a float offset, so cells far from the
-// origin (|z| ~ 100 m) keep sub-micrometre resolution.
+// vm is the measurement's height variance Sigma_W(2,2) (SPEC 4). A run of points in a
+// cell (consecutive points of a scan line) is summed in information form (sum 1/vm,
+// sum z/vm) and merged at once: this equals the point-by-point recursion above exactly
+// (both are the inverse-variance weighted mean, variance 1 / sum(1/vm)); only the floor
+// is applied once per run instead of after every point.
+// The cell stores the precision 1/var rather than var: a merge then costs one division
+// (var' = 1 / (1/var + sum 1/vm)) and the floor is a cap on the precision. The mean is
+// stored as a float reference plus a float offset, so cells far from the origin
+// (|z| ~ 100 m) keep sub-micrometre resolution.
 
 #include <cmath>
 #include <cstdint>
@@ -28,20 +30,22 @@ namespace hazmap {
 struct KalmanRule {
   static constexpr const char* kName = "kalman";
   static constexpr bool kHasPlane = false;
+  /// A run merges like a frame: the floor applies per run (closer to the per-point recursion).
+  static constexpr bool kMergePerRun = true;
 
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
     double min_variance_m2 = 1.0e-6;    ///< convergence floor [m^2]
   };
 
-  /// variance NaN marks a cell that has never been observed.
+  /// precision 0 marks a cell that has never been observed.
   struct Cell {
-    float z_ref_m = 0.0f;     ///< mean = z_ref_m + mean_off_m
+    float z_ref_m = 0.0f;      ///< mean = z_ref_m + mean_off_m
     float mean_off_m = 0.0f;
-    float variance_m2 = std::numeric_limits<float>::quiet_NaN();
+    float precision = 0.0f;    ///< 1 / variance [1/m^2]
   };
 
-  /// Information-form sums of one frame's points, z relative to the accumulator's reference.
+  /// Information-form sums of a run's (or a frame's) points, z relative to a reference.
   struct Sums {
     double w = 0, wz = 0;
     void add(double wt, double /*x*/, double /*y*/, double z) {
@@ -55,7 +59,14 @@ struct KalmanRule {
     }
   };
 
-  static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
+  /// Splits the mean into a float reference and a float offset: together ~48 bits, so
+  /// that merges do not accumulate float rounding (the offset is re-split every merge).
+  static void set_mean(Cell& c, double mean_m) {
+    c.z_ref_m = static_cast<float>(mean_m);
+    c.mean_off_m = static_cast<float>(mean_m - double(c.z_ref_m));
+  }
+
+  static bool known(const Cell& c) { return c.precision > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
   static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
@@ -67,24 +78,19 @@ struct KalmanRule {
     s.wz += h.wz;
   }
 
-  static void set_mean(Cell& c, double mean_m) {
-    c.z_ref_m = static_cast<float>(mean_m);
-    c.mean_off_m = static_cast<float>(mean_m - double(c.z_ref_m));
-  }
-
-  /// Merges one frame's sums (z relative to z_ref_m) into the cell.
+  /// Merges a run's or a frame's sums (z relative to z_ref_m) into the cell: the
+  /// information-form update, then the floor as a cap on the precision.
   static void merge_frame(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
                           double /*cell_m*/) {
     if (!(s.w > 0)) return;
-    const double frame_mean = z_ref_m + s.wz / s.w;
-    double precision = s.w, mean = frame_mean;
-    if (known(c)) {
-      const double prior = 1.0 / double(c.variance_m2);
-      precision = prior + s.w;
-      mean = (prior * KalmanRule::mean(c) + s.w * frame_mean) / precision;
-    }
-    set_mean(c, mean);
-    c.variance_m2 = static_cast<float>(std::max(1.0 / precision, cfg.min_variance_m2));
+    // Relative to z_ref_m (the sums' reference): prior mean offset and the new mean.
+    const double prior = known(c) ? double(c.precision) : 0.0;
+    const double off = known(c) ? mean(c) - z_ref_m : 0.0;
+    const double precision = prior + s.w;
+    set_mean(c, z_ref_m + (prior * off + s.wz) / precision);
+    // var >= floor  <=>  precision <= 1 / floor (division only when the cap applies).
+    c.precision = static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2
+                                                                            : precision);
   }
 
   /// Sequential single-point update (the SPEC 6.2 recursion), for tests and references.
@@ -94,15 +100,17 @@ struct KalmanRule {
     merge_frame(cfg, c, s, z_m, 0);
   }
 
+  /// var += q, i.e. precision = 1 / (1 / precision + q).
   static void begin_frame(const Config& cfg, Cell& c) {
-    if (known(c)) c.variance_m2 += static_cast<float>(cfg.time_inflation_m2);
+    if (known(c) && cfg.time_inflation_m2 > 0)
+      c.precision = static_cast<float>(double(c.precision) / (1.0 + cfg.time_inflation_m2 * c.precision));
   }
 
   /// Pooling view: each cell is one measurement (mu, var): weight 1/var.
   static Moments to_moments(const Cell& c) {
     Moments m;
     if (!known(c)) return m;
-    m.w = 1.0 / double(c.variance_m2);
+    m.w = c.precision;
     m.mz = mean(c);
     m.szz = 1.0;  // w * var: keeps OMG parents' spread meaning consistent
     m.count = 1;
@@ -114,13 +122,15 @@ struct KalmanRule {
       return;
     }
     set_mean(c, m.mz);
-    c.variance_m2 = static_cast<float>(std::max(1.0 / m.w, cfg.min_variance_m2));
+    c.precision = static_cast<float>(m.w * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2 : m.w);
   }
 
   static float height(const Cell& c) {
     return known(c) ? static_cast<float>(mean(c)) : std::numeric_limits<float>::quiet_NaN();
   }
-  static float variance(const Cell& c) { return c.variance_m2; }
+  static float variance(const Cell& c) {
+    return known(c) ? 1.0f / c.precision : std::numeric_limits<float>::quiet_NaN();
+  }
 };
 
 }  // namespace hazmap

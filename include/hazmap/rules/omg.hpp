@@ -22,6 +22,8 @@ namespace hazmap {
 struct OmgRule {
   static constexpr const char* kName = "omg";
   static constexpr bool kHasPlane = false;
+  /// The weight cap applies once per frame.
+  static constexpr bool kMergePerRun = false;
 
   struct Config {
     double max_weight = 1.0e7;  ///< S cap [1/m^2]

@@ -1,15 +1,12 @@
 #pragma once
-// Triangulation, the per-point covariance of a rectified stereo pair (SPEC 3.3, 4) and
-// the CCM weight derived from it. Pure functions of their inputs; frame C' is the
-// rectified left camera (x right, y down, z forward), pixels (u, v), disparity d in
-// pixels.
+// Triangulation and the per-point covariance of a rectified stereo pair (SPEC 3.3, 4);
+// the CCM weight derived from it is in map/map_points.hpp. Pure functions of their
+// inputs; frame C' is the rectified left camera (x right, y down, z forward), pixels
+// (u, v), disparity d in pixels.
 
 #include <cmath>
 
 #include <Eigen/Core>
-
-#include "hazmap/core/error.hpp"
-#include "hazmap/map/measurement.hpp"
 
 namespace hazmap {
 
@@ -48,28 +45,6 @@ inline Eigen::Matrix3d covariance_ray(const StereoGeometry& g, double u, double 
   const Eigen::Vector3d noise(pointing_px * pointing_px, pointing_px * pointing_px,
                               matching_px * matching_px);
   return J * noise.asDiagonal() * J.transpose();
-}
-
-/// CCM point weight (SPEC 4, `rules.ccm.weighting`) from the world-frame covariance:
-/// constant w = 1 (the thesis' final choice), trace w = 1 / trace(Sigma_W), det
-/// w = 1 / det(Sigma_W) [m^-2, m^-6]. Computed in double: det Sigma_W of a near point
-/// is ~1e-24 m^6, whose cubic terms underflow float. Throws Error when the covariance
-/// is not positive (trace or det <= 0, e.g. pointing_error_px = 0 with `det`), since
-/// such a weight would be infinite.
-inline float ccm_weight(CcmWeighting weighting, const Measurement& m) {
-  if (weighting == CcmWeighting::constant) return 1.0f;
-  const double xx = m.cov_xx, xy = m.cov_xy, xz = m.cov_xz, yy = m.cov_yy, yz = m.cov_yz,
-               zz = m.cov_zz;
-  const double value = weighting == CcmWeighting::trace
-                           ? xx + yy + zz
-                           : xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) +
-                                 xz * (xy * yz - yy * xz);
-  const double w = 1.0 / value;
-  if (!(value > 0) || !std::isfinite(static_cast<float>(w)))
-    throw Error(std::string("ccm weight: covariance ") +
-                (weighting == CcmWeighting::trace ? "trace" : "determinant") + " " +
-                std::to_string(value) + " is not positive: the weight would be infinite");
-  return static_cast<float>(w);
 }
 
 }  // namespace hazmap

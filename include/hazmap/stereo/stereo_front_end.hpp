@@ -44,8 +44,6 @@ class StereoFrontEnd {
   const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
   const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
   const PointCloud& cloud() const { return cloud_; }              ///< world frame
-  /// The same cloud, for the map to fill its derived per-point fields in place.
-  PointCloud& cloud() { return cloud_; }
   /// Rectified left pixel of each point of cloud().
   const std::vector<cv::Point>& pixels() const { return pixels_; }
   /// Significant bits the last pair was scaled from (8 for 8-bit input).

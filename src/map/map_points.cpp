@@ -1,0 +1,48 @@
+#include "hazmap/map/map_points.hpp"
+
+#include <algorithm>
+
+namespace hazmap {
+
+float ccm_weight(CcmWeighting weighting, const Measurement& m) {
+  if (weighting == CcmWeighting::constant) return 1.0f;
+  const double xx = m.cov_xx, xy = m.cov_xy, xz = m.cov_xz, yy = m.cov_yy, yz = m.cov_yz,
+               zz = m.cov_zz;
+  const double value = weighting == CcmWeighting::trace
+                           ? xx + yy + zz
+                           : xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) +
+                                 xz * (xy * yz - yy * xz);
+  return static_cast<float>(1.0 / value);
+}
+
+void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
+  size_ = static_cast<int>(cloud.size());
+  const std::size_t padded = cloud.size() + PointChunk::kPad;
+  for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_}) v->resize(padded, 0.0f);
+  for (int i = 0; i < size_; ++i) {
+    const Measurement& m = cloud[static_cast<std::size_t>(i)];
+    x_[i] = m.p_W.x();
+    y_[i] = m.p_W.y();
+    z_[i] = m.p_W.z();
+    inv_var_z_[i] = 1.0f / m.cov_zz;
+    lateral_var_[i] = std::max(m.cov_xx, m.cov_yy);
+  }
+  if (weighting == CcmWeighting::constant)
+    std::fill(ccm_weight_.begin(), ccm_weight_.begin() + size_, 1.0f);
+  else
+    for (int i = 0; i < size_; ++i) ccm_weight_[i] = ccm_weight(weighting, cloud[static_cast<std::size_t>(i)]);
+}
+
+PointChunk MapPoints::chunk(int begin, int count) const {
+  PointChunk c;
+  c.x = x_.data() + begin;
+  c.y = y_.data() + begin;
+  c.z = z_.data() + begin;
+  c.inv_var_z = inv_var_z_.data() + begin;
+  c.ccm_weight = ccm_weight_.data() + begin;
+  c.lateral_var = lateral_var_.data() + begin;
+  c.size = count;
+  return c;
+}
+
+}  // namespace hazmap
