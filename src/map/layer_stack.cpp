@@ -1,6 +1,5 @@
 #include "hazmap/map/layer_stack.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "hazmap/core/error.hpp"
@@ -69,10 +68,9 @@ std::size_t LayerStack::insert(const MapPoints& points) {
   // Each chunk is read by every layer while it is in cache.
   std::size_t updates = 0;
   for (auto& layer : layers_) layer->begin_insert();
-  for (int start = 0; start < points.size(); start += PointChunk::kCapacity) {
-    const PointChunk chunk = points.chunk(start, std::min(PointChunk::kCapacity, points.size() - start));
+  points.for_each_chunk([&](const PointChunk& chunk) {
     for (auto& layer : layers_) updates += layer->insert_chunk(chunk);
-  }
+  });
   for (auto& layer : layers_) layer->end_insert();
   if (pooling_) {
     // Fine to coarse, so that a layer's covered cells are rebuilt before it is pooled.

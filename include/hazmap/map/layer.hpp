@@ -3,7 +3,6 @@
 // type-erased interface is called once per frame and layer (never per point); the
 // rule's per-point work is inlined in RollingLayer<Rule>::insert.
 
-#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -57,8 +56,7 @@ class Layer {
   std::size_t insert(const MapPoints& points) {
     begin_insert();
     std::size_t used = 0;
-    for (int start = 0; start < points.size(); start += PointChunk::kCapacity)
-      used += insert_chunk(points.chunk(start, std::min(PointChunk::kCapacity, points.size() - start)));
+    points.for_each_chunk([&](const PointChunk& chunk) { used += insert_chunk(chunk); });
     end_insert();
     return used;
   }

@@ -35,6 +35,12 @@ class MapPoints {
   int size() const { return size_; }
   /// Points [begin, begin + count), count <= PointChunk::kCapacity.
   PointChunk chunk(int begin, int count) const;
+  /// Calls f(chunk) for consecutive chunks of kCapacity points (the last may be shorter).
+  template <class F>
+  void for_each_chunk(F&& f) const {
+    for (int start = 0; start < size_; start += PointChunk::kCapacity)
+      f(chunk(start, size_ - start < PointChunk::kCapacity ? size_ - start : PointChunk::kCapacity));
+  }
 
  private:
   std::vector<float> x_, y_, z_, inv_var_z_, ccm_weight_, lateral_var_;  ///< size_ + kPad
