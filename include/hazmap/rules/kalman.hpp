@@ -88,9 +88,12 @@ struct KalmanRule {
     const double off = known(c) ? mean(c) - z_ref_m : 0.0;
     const double precision = prior + s.w;
     set_mean(c, z_ref_m + (prior * off + s.wz) / precision);
-    // var >= floor  <=>  precision <= 1 / floor (division only when the cap applies).
-    c.precision = static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2
-                                                                            : precision);
+    c.precision = floored(cfg, precision);
+  }
+
+  /// var >= floor  <=>  precision <= 1 / floor (a division only when the cap applies).
+  static float floored(const Config& cfg, double precision) {
+    return static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2 : precision);
   }
 
   /// Sequential single-point update (the SPEC 6.2 recursion), for tests and references.
@@ -122,7 +125,7 @@ struct KalmanRule {
       return;
     }
     set_mean(c, m.mz);
-    c.precision = static_cast<float>(m.w * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2 : m.w);
+    c.precision = floored(cfg, m.w);
   }
 
   static float height(const Cell& c) {
