@@ -1,24 +1,26 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
-// Cell, Sums, kMergePerRun and static known / clear / reference_z / weights / merge_frame /
-// begin_frame / to_moments / from_moments / height / variance).
+// Cell, Sums, kMergePerRun, kUsesHeightSums and static known / clear / reference_z /
+// weights / merge_frame / begin_frame / to_moments / from_moments / height / variance,
+// plus run_sums for rules that merge per run and add_run for the others).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
 // storage slot with straight-line arithmetic the compiler vectorises: one multiply per
 // axis (no division by the resolution), a floor, an unsigned bounds test and a
-// conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 walks
-// the runs of equal slots (scan lines cross cells in runs) and sums each run in
-// registers. Rules whose merge does not depend on how a frame's points are grouped
-// (Rule::kMergePerRun: Kalman, the baseline) merge each run straight into its cell; the
-// others (CCM and OMG apply their weight cap once per frame, SPEC 6.3-6.4) add it to the
-// cell's frame accumulator and merge each touched cell once per frame. All buffers are
-// allocated in the constructor.
+// conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 works
+// on the runs of equal slots (scan lines cross cells in runs). Rules whose merge does not
+// depend on how a frame's points are grouped (Rule::kMergePerRun: Kalman, the baseline)
+// list the chunk's runs and sum them without a branch on where runs end (chunk_runs.hpp),
+// then merge each run straight into its cell. The others (CCM and OMG apply their weight cap once per
+// frame, SPEC 6.3-6.4) sum each run in registers into the cell's frame accumulator and
+// merge each touched cell once per frame. All buffers are allocated in the constructor.
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "hazmap/map/chunk_runs.hpp"
 #include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/layer.hpp"
 #include "hazmap/map/run_sums.hpp"
@@ -44,7 +46,8 @@ class RollingLayer final : public Layer {
         touched_(Rule::kMergePerRun ? 0 : cell_count(), 0),
         slot_buf_(PointChunk::kStride, -1),
         x_buf_(PointChunk::kStride, 0.0f),
-        y_buf_(PointChunk::kStride, 0.0f) {
+        y_buf_(PointChunk::kStride, 0.0f),
+        runs_(Rule::kUsesHeightSums) {
     if (pooled) {
       prior_.resize(cell_count());
       covered_.assign(cell_count(), 0);
@@ -64,7 +67,6 @@ class RollingLayer final : public Layer {
 
   std::size_t insert_chunk(const PointChunk& chunk) override {
     const int n = grid_.size();
-    const int count = chunk.size;
     int* const slot = slot_buf_.data();
     float* const cx = x_buf_.data();
     float* const cy = y_buf_.data();
@@ -80,53 +82,10 @@ class RollingLayer final : public Layer {
       locate_points(chunk, window, gate_var_, slot, cx, cy);
     else
       locate_points(chunk, window, gate_var_, slot, nullptr, nullptr);
-    // Pass 2: runs of consecutive points in one cell, summed once per run.
-    const bool pooled = !covered_.empty();
-    const float* const w = Rule::weights(chunk);
-    std::size_t used = 0;
-    for (int i = 0; i < count;) {
-      const int s = slot[i];
-      const int end = run_end(slot, i, count);
-      // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
-      const int ahead = slot[std::min(end + kPrefetchPoints, count - 1)];
-      if (ahead >= 0) {
-        __builtin_prefetch(&cells_[ahead]);
-        if constexpr (Rule::kMergePerRun)
-          __builtin_prefetch(&updated_frame_[ahead]);
-        else
-          __builtin_prefetch(&frame_index_[ahead]);
-      }
-      if (s < 0 || (pooled && covered_[s])) {  // covered: the finer layer holds its points
-        i = end;
-        continue;
-      }
-      used += static_cast<std::size_t>(end - i);
-      if constexpr (Rule::kMergePerRun) {
-        // The run goes straight into the cell: no frame accumulator, no second pass.
-        typename Rule::Cell& c = cells_[s];
-        const float z_ref = Rule::known(c) ? Rule::reference_z(c) : chunk.z[i];
-        typename Rule::Sums sums;
-        Rule::add_run(sums, RunPoints{w, cx, cy, chunk.z, i, end}, z_ref);
-        Rule::merge_frame(config_, c, sums, z_ref, grid_.resolution_m());
-        updated_frame_[s] = frame_;
-      } else {
-        // Sparse set: frame_index_[s] is valid only if touched_ points back to s. The
-        // frame's accumulators are packed in touch order, so they stay in cache.
-        int k = frame_index_[s];
-        if (static_cast<unsigned>(k) >= static_cast<unsigned>(touched_count_) || touched_[k] != s) {
-          k = touched_count_++;
-          frame_index_[s] = k;
-          touched_[k] = s;
-          Accumulator& fresh = accumulators_[k];
-          fresh.sums = typename Rule::Sums{};
-          fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
-        }
-        Accumulator& a = accumulators_[k];
-        Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end}, a.z_ref);
-      }
-      i = end;
-    }
-    return used;
+    if constexpr (Rule::kMergePerRun)
+      return merge_runs(chunk);
+    else
+      return accumulate_runs(chunk);
   }
 
   void end_insert() override {
@@ -255,6 +214,7 @@ class RollingLayer final : public Layer {
 
  private:
   static constexpr int kPrefetchPoints = 32;  ///< ~4 runs ahead on a 1 cm layer
+  static constexpr int kPrefetchRuns = 4;
   static constexpr int kPrefetchCells = 8;
 
   struct Accumulator {
@@ -321,6 +281,73 @@ class RollingLayer final : public Layer {
     }
   }
 
+  /// Pass 2 for rules that merge each run straight into its cell: the chunk's runs as
+  /// a list (chunk_runs.hpp), then one merge per run.
+  std::size_t merge_runs(const PointChunk& chunk) {
+    const int* const slot = slot_buf_.data();
+    runs_.find(slot, chunk.size);
+    if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z, chunk.size);
+    const bool pooled = !covered_.empty();
+    const double r = grid_.resolution_m();
+    const int count = runs_.size();
+    std::size_t used = 0;
+    for (int k = 0; k < count; ++k) {
+      // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
+      const int ahead = slot[runs_.begin(std::min(k + kPrefetchRuns, count - 1))];
+      if (ahead >= 0) {
+        __builtin_prefetch(&cells_[ahead], 1);
+        __builtin_prefetch(&updated_frame_[ahead], 1);
+      }
+      const int s = slot[runs_.begin(k)];
+      if (s < 0 || (pooled && covered_[s])) continue;  // covered: the finer layer holds its points
+      used += static_cast<std::size_t>(runs_.end(k) - runs_.begin(k));
+      Rule::merge_frame(config_, cells_[s], Rule::run_sums(chunk, runs_, k), runs_.z0(), r);
+      updated_frame_[s] = frame_;
+    }
+    return used;
+  }
+
+  /// Pass 2 for rules whose weight cap acts once per frame (CCM, OMG): each run, summed
+  /// in registers, goes to its cell's frame accumulator; end_insert merges them.
+  std::size_t accumulate_runs(const PointChunk& chunk) {
+    const int count = chunk.size;
+    const int* const slot = slot_buf_.data();
+    const float* const cx = x_buf_.data();
+    const float* const cy = y_buf_.data();
+    const bool pooled = !covered_.empty();
+    const float* const w = Rule::weights(chunk);
+    std::size_t used = 0;
+    for (int i = 0; i < count;) {
+      const int s = slot[i];
+      const int end = run_end(slot, i, count);
+      const int ahead = slot[std::min(end + kPrefetchPoints, count - 1)];
+      if (ahead >= 0) {
+        __builtin_prefetch(&cells_[ahead]);
+        __builtin_prefetch(&frame_index_[ahead]);
+      }
+      if (s < 0 || (pooled && covered_[s])) {
+        i = end;
+        continue;
+      }
+      used += static_cast<std::size_t>(end - i);
+      // Sparse set: frame_index_[s] is valid only if touched_ points back to s. The
+      // frame's accumulators are packed in touch order, so they stay in cache.
+      int k = frame_index_[s];
+      if (static_cast<unsigned>(k) >= static_cast<unsigned>(touched_count_) || touched_[k] != s) {
+        k = touched_count_++;
+        frame_index_[s] = k;
+        touched_[k] = s;
+        Accumulator& fresh = accumulators_[k];
+        fresh.sums = typename Rule::Sums{};
+        fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
+      }
+      Accumulator& a = accumulators_[k];
+      Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end}, a.z_ref);
+      i = end;
+    }
+    return used;
+  }
+
   RollingGrid grid_;
   typename Rule::Config config_;
   double inv_resolution_;
@@ -335,6 +362,7 @@ class RollingLayer final : public Layer {
   // Per-chunk scratch: slot (-1: dropped) and cell-centred x, y of each point.
   std::vector<int> slot_buf_;
   std::vector<float> x_buf_, y_buf_;
+  ChunkRuns runs_;  ///< the chunk's runs (merge-per-run rules)
   std::vector<typename Rule::Cell> prior_;
   std::vector<unsigned char> covered_;
 };

@@ -8,7 +8,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/run_sums.hpp"
+#include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
 
@@ -17,6 +17,7 @@ struct BananasRule {
   static constexpr bool kHasPlane = false;
   /// The last point wins whatever the grouping.
   static constexpr bool kMergePerRun = true;
+  static constexpr bool kUsesHeightSums = false;
 
   struct Config {};
   struct Cell {
@@ -41,10 +42,13 @@ struct BananasRule {
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.height_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }  // unused
-  /// Adds a run of points in this cell (z relative to z_ref_m): the last one counts.
-  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
-    s.add(0.0, 0.0, 0.0, double(run.z[run.end - 1]) - z_ref_m);
-    s.count += static_cast<std::uint32_t>(run.end - run.begin - 1);
+  /// Sums of run r of the chunk (points in one cell), relative to runs.z0(): the last
+  /// point counts.
+  static Sums run_sums(const PointChunk& chunk, const ChunkRuns& runs, int r) {
+    Sums s;
+    s.last_z = double(chunk.z[runs.end(r) - 1]) - runs.z0();
+    s.count = static_cast<std::uint32_t>(runs.end(r) - runs.begin(r));
+    return s;
   }
   static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
     if (s.count > 0) c.height_m = static_cast<float>(z_ref_m + s.last_z);

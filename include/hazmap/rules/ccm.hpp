@@ -27,6 +27,7 @@ struct CcmRule {
   static constexpr bool kHasPlane = true;
   /// The weight cap applies once per frame (SPEC 6.4).
   static constexpr bool kMergePerRun = false;
+  static constexpr bool kUsesHeightSums = false;
 
   struct Config {
     double max_weight = 500;    ///< W_l: weight cap applied once per frame

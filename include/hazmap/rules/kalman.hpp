@@ -23,7 +23,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/run_sums.hpp"
+#include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
 
@@ -32,6 +32,8 @@ struct KalmanRule {
   static constexpr bool kHasPlane = false;
   /// A run merges like a frame: the floor applies per run (closer to the per-point recursion).
   static constexpr bool kMergePerRun = true;
+  /// A run's sums come from ChunkRuns::sum_heights (chunk_runs.hpp).
+  static constexpr bool kUsesHeightSums = true;
 
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
@@ -71,11 +73,12 @@ struct KalmanRule {
   static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
   static float reference_z(const Cell& c) { return c.z_ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
-  /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
-  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
-    const HeightSums h = height_run(run, z_ref_m);
-    s.w += h.w;
-    s.wz += h.wz;
+  /// Sums of run r of the chunk (points in one cell), z relative to runs.z0().
+  static Sums run_sums(const PointChunk& /*chunk*/, const ChunkRuns& runs, int r) {
+    Sums s;
+    s.w = runs.sum_w(r);
+    s.wz = runs.sum_wz(r);
+    return s;
   }
 
   /// Merges a run's or a frame's sums (z relative to z_ref_m) into the cell: the

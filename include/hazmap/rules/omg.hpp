@@ -24,6 +24,7 @@ struct OmgRule {
   static constexpr bool kHasPlane = false;
   /// The weight cap applies once per frame.
   static constexpr bool kMergePerRun = false;
+  static constexpr bool kUsesHeightSums = false;
 
   struct Config {
     double max_weight = 1.0e7;  ///< S cap [1/m^2]
