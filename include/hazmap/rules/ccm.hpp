@@ -19,6 +19,7 @@
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/run_sums.hpp"
+#include "hazmap/map/split_height.hpp"
 
 namespace hazmap {
 
@@ -39,7 +40,7 @@ struct CcmRule {
   struct Cell {
     float w = 0.0f;
     float mx_m = 0.0f, my_m = 0.0f;  ///< mean x, y relative to the cell centre
-    float z_ref_m = 0.0f, mz_off_m = 0.0f;
+    SplitHeight mz_m;                ///< mean height
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;  ///< co-moments
     std::uint32_t count = 0;
   };
@@ -48,13 +49,13 @@ struct CcmRule {
 
   static bool known(const Cell& c) { return c.w > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
-  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static float reference_z(const Cell& c) { return c.mz_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.ccm_weight; }
   /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
   static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
     add_plane_run(run, z_ref_m, s);
   }
-  static double mean_z(const Cell& c) { return double(c.z_ref_m) + double(c.mz_off_m); }
+  static double mean_z(const Cell& c) { return c.mz_m.value(); }
 
   static Moments to_moments(const Cell& c) {
     Moments m;
@@ -79,8 +80,7 @@ struct CcmRule {
     c.w = static_cast<float>(m.w);
     c.mx_m = static_cast<float>(m.mx);
     c.my_m = static_cast<float>(m.my);
-    c.z_ref_m = static_cast<float>(m.mz);
-    c.mz_off_m = static_cast<float>(m.mz - double(c.z_ref_m));
+    c.mz_m.set(m.mz);
     c.sxx = static_cast<float>(m.sxx), c.syy = static_cast<float>(m.syy);
     c.szz = static_cast<float>(m.szz), c.sxy = static_cast<float>(m.sxy);
     c.sxz = static_cast<float>(m.sxz), c.syz = static_cast<float>(m.syz);

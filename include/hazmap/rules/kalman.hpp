@@ -13,9 +13,8 @@
 // (both are the inverse-variance weighted mean, variance 1 / sum(1/vm)); only the floor
 // is applied once per run instead of after every point.
 // The cell stores the precision 1/var rather than var: a merge then costs one division
-// (var' = 1 / (1/var + sum 1/vm)) and the floor is a cap on the precision. The mean is
-// stored as a float reference plus a float offset, so cells far from the origin
-// (|z| ~ 100 m) keep sub-micrometre resolution.
+// (var' = 1 / (1/var + sum 1/vm)) and the floor is a cap on the precision. The mean is a
+// SplitHeight, so cells far from the origin (|z| ~ 100 m) keep sub-micrometre resolution.
 
 #include <cmath>
 #include <cstdint>
@@ -23,6 +22,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/map/split_height.hpp"
 #include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
@@ -42,9 +42,8 @@ struct KalmanRule {
 
   /// precision 0 marks a cell that has never been observed.
   struct Cell {
-    float z_ref_m = 0.0f;      ///< mean = z_ref_m + mean_off_m
-    float mean_off_m = 0.0f;
-    float precision = 0.0f;    ///< 1 / variance [1/m^2]
+    SplitHeight mean_m;
+    float precision = 0.0f;  ///< 1 / variance [1/m^2]
   };
 
   /// Information-form sums of a run's (or a frame's) points, z relative to a reference.
@@ -61,17 +60,10 @@ struct KalmanRule {
     }
   };
 
-  /// Splits the mean into a float reference and a float offset: together ~48 bits, so
-  /// that merges do not accumulate float rounding (the offset is re-split every merge).
-  static void set_mean(Cell& c, double mean_m) {
-    c.z_ref_m = static_cast<float>(mean_m);
-    c.mean_off_m = static_cast<float>(mean_m - double(c.z_ref_m));
-  }
-
   static bool known(const Cell& c) { return c.precision > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
-  static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
-  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static double mean(const Cell& c) { return c.mean_m.value(); }
+  static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
   /// Sums of run r of the chunk (points in one cell), z relative to runs.z0().
   static Sums run_sums(const PointChunk& /*chunk*/, const ChunkRuns& runs, int r) {
@@ -90,7 +82,7 @@ struct KalmanRule {
     const double prior = known(c) ? double(c.precision) : 0.0;
     const double off = known(c) ? mean(c) - z_ref_m : 0.0;
     const double precision = prior + s.w;
-    set_mean(c, z_ref_m + (prior * off + s.wz) / precision);
+    c.mean_m.set(z_ref_m + (prior * off + s.wz) / precision);
     c.precision = floored(cfg, precision);
   }
 
@@ -127,7 +119,7 @@ struct KalmanRule {
       clear(c);
       return;
     }
-    set_mean(c, m.mz);
+    c.mean_m.set(m.mz);
     c.precision = floored(cfg, m.w);
   }
 

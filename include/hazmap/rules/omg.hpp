@@ -16,6 +16,7 @@
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/run_sums.hpp"
+#include "hazmap/map/split_height.hpp"
 
 namespace hazmap {
 
@@ -32,8 +33,7 @@ struct OmgRule {
   };
 
   struct Cell {
-    float z_ref_m = 0.0f;  ///< mean = z_ref_m + mean_off_m
-    float mean_off_m = 0.0f;
+    SplitHeight mean_m;
     float variance_m2 = std::numeric_limits<float>::quiet_NaN();  ///< NaN: never observed
     float weight = 0.0f;   ///< S
   };
@@ -56,8 +56,8 @@ struct OmgRule {
 
   static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
   static void clear(Cell& c) { c = Cell{}; }
-  static double mean(const Cell& c) { return double(c.z_ref_m) + double(c.mean_off_m); }
-  static float reference_z(const Cell& c) { return c.z_ref_m; }
+  static double mean(const Cell& c) { return c.mean_m.value(); }
+  static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
   /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
   static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
@@ -82,8 +82,7 @@ struct OmgRule {
       clear(c);
       return;
     }
-    c.z_ref_m = static_cast<float>(m.mz);
-    c.mean_off_m = static_cast<float>(m.mz - double(c.z_ref_m));
+    c.mean_m.set(m.mz);
     c.variance_m2 = static_cast<float>(m.szz / m.w);
     c.weight = static_cast<float>(std::min(m.w, cfg.max_weight));
   }
