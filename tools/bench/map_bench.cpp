@@ -74,6 +74,23 @@ void BM_Omg1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::omg, 0.
 void BM_Bananas1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::bananas, 0.01, 1000}})); }
 void BM_Ccm4cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}})); }
 void BM_Ccm16cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.16, 64}})); }
+/// 4096 consecutive points of the frame (six image rows, mid-field), inserted over and
+/// over: the cells they touch stay in cache, so this is the 1 cm Kalman layer's compute
+/// alone; the difference to BM_Kalman1cm/0 is what the whole frame's memory traffic adds.
+void BM_Kalman1cmInCache(benchmark::State& state) {
+  static PointCloud rows;
+  if (rows.empty()) {
+    const PointCloud& frame = frame_cloud(false);
+    rows.assign(frame.begin() + 100000, frame.begin() + 100000 + 4096);
+  }
+  const MapPoints points(rows);
+  RulesConfig rules;
+  LayerStack stack(make_map({{RuleKind::kalman, 0.01, 1000}}), rules);
+  stack.begin_frame(0.0, 0.0);
+  for (auto _ : state) benchmark::DoNotOptimize(stack.insert(points));
+  state.counters["ns_per_point_layer"] = benchmark::Counter(
+      double(points.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
 /// CADRE flight stack (SPEC 11): Kalman 1 cm + CCM 4, 16, 64 cm over 10 m x 10 m.
 void BM_FlightStack(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
@@ -98,6 +115,7 @@ void BM_ThesisCcmPooled(benchmark::State& s) {
 // Argument: 0 = points within 3 m (as the shipped configs' z_max), 1 = within 5 m.
 BENCHMARK(BM_MapPointsAssign)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kalman1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kalman1cmInCache)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Omg1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm4cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
