@@ -58,7 +58,12 @@ class RollingLayer final : public Layer {
     frame_ = frame;
     const NewRegions regions = grid_.move_to(robot_x_m, robot_y_m);
     for (int k = 0; k < regions.count; ++k) clear(regions.ranges[k]);
-    for (auto& cell : cells_) Rule::begin_frame(config_, cell);
+    // Time inflation / decay (Rule::age) is lazy: a cell catches up on the frames since
+    // its last merge when it is next merged or read, so a frame costs nothing per cell.
+    // Pooled layers keep the per-frame pass: their covered cells are rebuilt from a prior
+    // every frame, which is not a merge.
+    if (!covered_.empty())
+      for (auto& cell : cells_) Rule::begin_frame(config_, cell);
   }
 
   void begin_insert() override {
@@ -94,6 +99,7 @@ class RollingLayer final : public Layer {
       const int slot = touched_[k];
       __builtin_prefetch(&cells_[touched_[std::min(k + kPrefetchCells, touched_count_ - 1)]], 1);
       const Accumulator& a = accumulators_[k];
+      catch_up(slot);
       Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r);
       updated_frame_[slot] = frame_;
     }
@@ -131,7 +137,7 @@ class RollingLayer final : public Layer {
         if (!pg.contains(px, py)) continue;
         const int pslot = pg.slot(px, py);
         if (!parent.covered(pslot)) continue;
-        const typename Rule::Cell& c = cells_[grid_.slot(ix, iy)];
+        const typename Rule::Cell c = current(grid_.slot(ix, iy));
         if (!Rule::known(c)) continue;
         Moments m = Rule::to_moments(c);
         // Child-centric -> parent-centric coordinates.
@@ -176,7 +182,7 @@ class RollingLayer final : public Layer {
       const CellIndex iy = grid_.origin_y() + (n - 1 - row);
       for (int col = 0; col < n; ++col) {
         const CellIndex ix = grid_.origin_x() + col;
-        const typename Rule::Cell& c = cells_[grid_.slot(ix, iy)];
+        const typename Rule::Cell c = current(grid_.slot(ix, iy));
         if (!Rule::known(c)) continue;
         if constexpr (Rule::kHasPlane) {
           double a, b;
@@ -199,17 +205,15 @@ class RollingLayer final : public Layer {
 
   Moments cell_moments(CellIndex ix, CellIndex iy) const override {
     if (!grid_.contains(ix, iy)) return Moments{};
-    return Rule::to_moments(cells_[grid_.slot(ix, iy)]);
+    return Rule::to_moments(current(grid_.slot(ix, iy)));
   }
 
   const char* rule_name() const override { return Rule::kName; }
   bool has_plane() const override { return Rule::kHasPlane; }
   const RollingGrid& grid() const override { return grid_; }
 
-  /// Direct cell access by global index (tests). Requires grid().contains(ix, iy).
-  const typename Rule::Cell& cell(CellIndex ix, CellIndex iy) const {
-    return cells_[grid_.slot(ix, iy)];
-  }
+  /// The cell at a global index as of this frame (tests). Requires grid().contains(ix, iy).
+  typename Rule::Cell cell(CellIndex ix, CellIndex iy) const { return current(grid_.slot(ix, iy)); }
   const typename Rule::Config& config() const { return config_; }
 
  private:
@@ -229,6 +233,22 @@ class RollingLayer final : public Layer {
   static CellIndex floor_div(CellIndex a, CellIndex b) {
     const CellIndex q = a / b;
     return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+  }
+
+  /// Frames of Rule::age a cell still owes: none on pooled layers (aged every frame).
+  std::uint32_t owed_frames(int slot) const {
+    return covered_.empty() ? frame_ - updated_frame_[slot] : 0;
+  }
+  /// Applies the owed ageing before a merge (the merge then stamps the frame).
+  void catch_up(int slot) {
+    const std::uint32_t owed = owed_frames(slot);
+    if (owed > 0) Rule::age(config_, cells_[slot], owed);
+  }
+  /// The cell as of this frame, for reading.
+  typename Rule::Cell current(int slot) const {
+    typename Rule::Cell c = cells_[slot];
+    Rule::age(config_, c, owed_frames(slot));
+    return c;
   }
 
   void clear(const CellRange& range) {
@@ -301,6 +321,7 @@ class RollingLayer final : public Layer {
       const int s = slot[runs_.begin(k)];
       if (s < 0 || (pooled && covered_[s])) continue;  // covered: the finer layer holds its points
       used += static_cast<std::size_t>(runs_.end(k) - runs_.begin(k));
+      catch_up(s);
       Rule::merge_frame(config_, cells_[s], Rule::run_sums(chunk, runs_, k), runs_.z0(), r);
       updated_frame_[s] = frame_;
     }

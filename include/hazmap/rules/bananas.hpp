@@ -56,6 +56,8 @@ struct BananasRule {
   static void update(const Config&, Cell& c, double z_m, double /*vm_m2*/) {
     c.height_m = static_cast<float>(z_m);
   }
+  /// Nothing changes with time.
+  static void age(const Config&, Cell&, std::uint32_t) {}
   static void begin_frame(const Config&, Cell&) {}
   /// Pooling view: an unweighted height sample.
   static Moments to_moments(const Cell& c) {

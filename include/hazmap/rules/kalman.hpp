@@ -98,11 +98,16 @@ struct KalmanRule {
     merge_frame(cfg, c, s, z_m, 0);
   }
 
-  /// var += q, i.e. precision = 1 / (1 / precision + q).
-  static void begin_frame(const Config& cfg, Cell& c) {
-    if (known(c) && cfg.time_inflation_m2 > 0)
-      c.precision = static_cast<float>(double(c.precision) / (1.0 + cfg.time_inflation_m2 * c.precision));
+  /// The inflation of `frames` frames at once: var += frames q, i.e.
+  /// precision = 1 / (1 / precision + frames q). Layers apply it lazily, when a cell is
+  /// next merged or read, so that a frame does not pass over every cell.
+  static void age(const Config& cfg, Cell& c, std::uint32_t frames) {
+    if (known(c) && cfg.time_inflation_m2 > 0 && frames > 0)
+      c.precision = static_cast<float>(double(c.precision) /
+                                       (1.0 + double(frames) * cfg.time_inflation_m2 * c.precision));
   }
+  /// One frame's inflation: var += q.
+  static void begin_frame(const Config& cfg, Cell& c) { age(cfg, c, 1); }
 
   /// Pooling view: each cell is one measurement (mu, var): weight 1/var.
   static Moments to_moments(const Cell& c) {

@@ -106,9 +106,13 @@ struct OmgRule {
     merge_frame(cfg, c, s, z_m, 0);
   }
 
-  static void begin_frame(const Config& cfg, Cell& c) {
-    if (known(c)) c.weight = static_cast<float>(c.weight * cfg.decay);
+  /// The decay of `frames` frames at once: S *= decay^frames (applied lazily by layers).
+  static void age(const Config& cfg, Cell& c, std::uint32_t frames) {
+    if (known(c) && frames > 0 && cfg.decay != 1.0)
+      c.weight = static_cast<float>(c.weight * (frames == 1 ? cfg.decay : std::pow(cfg.decay, double(frames))));
   }
+  /// One frame's decay: S *= decay.
+  static void begin_frame(const Config& cfg, Cell& c) { age(cfg, c, 1); }
 
   static float height(const Cell& c) {
     return known(c) ? static_cast<float>(mean(c)) : std::numeric_limits<float>::quiet_NaN();
