@@ -64,11 +64,14 @@ __attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int c
   for (; i + 8 <= count; i += 8) {
     const __m256i cur = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot + i));
     const __m256i prev = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot + i - 1));
-    const unsigned same = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(cur, prev))));
+    const unsigned same = static_cast<unsigned>(
+        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(cur, prev))));
     const unsigned start = ~same & 0xFFu;
     // All eight candidate starts are stored; only the first popcount(start) are kept.
-    const __m256i at = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetBits[start])));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(starts + runs), _mm256_add_epi32(at, _mm256_set1_epi32(i)));
+    const __m256i at =
+        _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetBits[start])));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(starts + runs),
+                        _mm256_add_epi32(at, _mm256_set1_epi32(i)));
     runs += _mm_popcnt_u32(start);
   }
   for (; i < count; ++i) {

@@ -24,7 +24,8 @@ PointCloud cell_points(CellIndex ix, int n, double z, std::mt19937_64& rng) {
   PointCloud cloud;
   for (int k = 0; k < n; ++k) {
     Measurement m{};
-    m.p_W = Eigen::Vector3f(float((double(ix) + 0.5) * kCell), float(0.5 * kCell), float(z + noise(rng)));
+    m.p_W = Eigen::Vector3f(float((double(ix) + 0.5) * kCell), float(0.5 * kCell),
+                            float(z + noise(rng)));
     m.cov_xx = m.cov_yy = 1e-6f;
     m.cov_zz = 1e-4f;
     cloud.push_back(m);
@@ -54,13 +55,15 @@ TEST(LayerAgeing, KalmanInflationOfSkippedFramesEqualsOnePassPerFrame) {
   KalmanRule::Config cfg;
   cfg.time_inflation_m2 = 2e-5;  // a fifth of a point's variance per frame: visible
   cfg.min_variance_m2 = 1e-9;    // below anything reached: the floor stays out of the way
-  run_frames<KalmanRule>(cfg, [](const KalmanRule::Cell& got, const KalmanRule::Cell& want, std::uint32_t frame) {
-    ASSERT_TRUE(KalmanRule::known(got));
-    // Float rounding of one division per frame (eager) vs one per gap (lazy): ~1e-7.
-    EXPECT_NEAR(KalmanRule::variance(got), KalmanRule::variance(want), 1e-6 * KalmanRule::variance(want))
-        << "frame " << frame;
-    EXPECT_NEAR(KalmanRule::mean(got), KalmanRule::mean(want), 1e-7) << "frame " << frame;
-  });
+  run_frames<KalmanRule>(
+      cfg, [](const KalmanRule::Cell& got, const KalmanRule::Cell& want, std::uint32_t frame) {
+        ASSERT_TRUE(KalmanRule::known(got));
+        // Float rounding of one division per frame (eager) vs one per gap (lazy): ~1e-7.
+        EXPECT_NEAR(KalmanRule::variance(got), KalmanRule::variance(want),
+                    1e-6 * KalmanRule::variance(want))
+            << "frame " << frame;
+        EXPECT_NEAR(KalmanRule::mean(got), KalmanRule::mean(want), 1e-7) << "frame " << frame;
+      });
 }
 
 TEST(LayerAgeing, KalmanVarianceGrowsByQPerFrameWithoutPoints) {
@@ -82,13 +85,14 @@ TEST(LayerAgeing, OmgDecayOfSkippedFramesEqualsOnePassPerFrame) {
   OmgRule::Config cfg;
   cfg.decay = 0.8;
   cfg.max_weight = 1e9;
-  run_frames<OmgRule>(cfg, [](const OmgRule::Cell& got, const OmgRule::Cell& want, std::uint32_t frame) {
-    ASSERT_TRUE(OmgRule::known(got));
-    EXPECT_NEAR(got.weight, want.weight, 1e-6 * want.weight) << "frame " << frame;
-    EXPECT_NEAR(OmgRule::mean(got), OmgRule::mean(want), 1e-7) << "frame " << frame;
-    EXPECT_NEAR(OmgRule::variance(got), OmgRule::variance(want), 1e-5 * OmgRule::variance(want))
-        << "frame " << frame;
-  });
+  run_frames<OmgRule>(
+      cfg, [](const OmgRule::Cell& got, const OmgRule::Cell& want, std::uint32_t frame) {
+        ASSERT_TRUE(OmgRule::known(got));
+        EXPECT_NEAR(got.weight, want.weight, 1e-6 * want.weight) << "frame " << frame;
+        EXPECT_NEAR(OmgRule::mean(got), OmgRule::mean(want), 1e-7) << "frame " << frame;
+        EXPECT_NEAR(OmgRule::variance(got), OmgRule::variance(want), 1e-5 * OmgRule::variance(want))
+            << "frame " << frame;
+      });
 }
 
 }  // namespace

@@ -1,13 +1,13 @@
 // find_runs (both versions) and run_height_sums against plain scalar double versions.
 
+#include "hazmap/map/chunk_runs.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <limits>
 #include <random>
 #include <vector>
-
-#include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
 namespace {
@@ -46,7 +46,8 @@ TEST(FindRuns, ListsEveryRunStartBothVersions) {
         continue;
       }
       ASSERT_EQ(runs + 1, static_cast<int>(want.size())) << "count " << count;
-      for (int r = 0; r <= runs; ++r) ASSERT_EQ(starts[r], want[r]) << "count " << count << " run " << r;
+      for (int r = 0; r <= runs; ++r)
+        ASSERT_EQ(starts[r], want[r]) << "count " << count << " run " << r;
     }
   }
 }
@@ -92,7 +93,7 @@ TEST(RunHeightSums, EqualsScalarDoubleSums) {
     // The mean about z0, in metres: float lanes about the run's first height keep ~1e-10 m.
     ASSERT_NEAR(sum_wz[r] / sum_w[r], WZ / W, 1e-8) << "run " << r;
   }
-  EXPECT_GT(longest, 24);  // the loop past two vectors ran
+  EXPECT_GT(longest, 24);        // the loop past two vectors ran
   EXPECT_EQ(sum_w[runs], -1.0);  // nothing written past the last run
 }
 

@@ -42,12 +42,14 @@ MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
   return map;
 }
 
-void run_insert(benchmark::State& state, const MapConfig& map) {
+/// `whole_frame`: each iteration is a frame, begin_frame (roll, time inflation) included.
+void run_insert(benchmark::State& state, const MapConfig& map, bool whole_frame = false) {
   RulesConfig rules;
   LayerStack stack(map, rules);
   const MapPoints& points = frame_points(state.range(0) != 0);
   stack.begin_frame(0.0, 0.0);
   for (auto _ : state) {
+    if (whole_frame) stack.begin_frame(0.0, 0.0);
     benchmark::DoNotOptimize(stack.insert(points));
   }
   const double point_layers = double(points.size()) * double(map.layers.size());
@@ -96,6 +98,13 @@ void BM_FlightStack(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
                           {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
 }
+/// The flight stack frame by frame: begin_frame (the robot stands still, so no roll; the
+/// Kalman layer's time inflation) and insertion.
+void BM_FlightStackFrame(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
+                          {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}),
+             true);
+}
 /// The flight stack without its Kalman layer: the difference to BM_FlightStack is the
 /// Kalman layer's marginal cost inside the stack (the shared chunk conversion excluded).
 void BM_FlightStackCcmOnly(benchmark::State& s) {
@@ -121,6 +130,7 @@ BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm4cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm16cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlightStackFrame)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStackCcmOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThesisCcmAllLayers)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThesisCcmPooled)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -1,8 +1,8 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
 // Cell, Sums, kMergePerRun, kUsesHeightSums and static known / clear / reference_z /
-// weights / merge_frame / begin_frame / to_moments / from_moments / height / variance,
-// plus run_sums for rules that merge per run and add_run for the others).
+// weights / merge_frame / age / begin_frame / to_moments / from_moments / height /
+// variance, plus run_sums for rules that merge per run and add_run for the others).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
 // storage slot with straight-line arithmetic the compiler vectorises: one multiply per
@@ -10,10 +10,12 @@
 // conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 works
 // on the runs of equal slots (scan lines cross cells in runs). Rules whose merge does not
 // depend on how a frame's points are grouped (Rule::kMergePerRun: Kalman, the baseline)
-// list the chunk's runs and sum them without a branch on where runs end (chunk_runs.hpp),
-// then merge each run straight into its cell. The others (CCM and OMG apply their weight cap once per
-// frame, SPEC 6.3-6.4) sum each run in registers into the cell's frame accumulator and
-// merge each touched cell once per frame. All buffers are allocated in the constructor.
+// list the chunk's runs and sum them without a branch on where runs end
+// (chunk_runs.hpp), then merge each run straight into its cell. The others (CCM and OMG
+// apply their weight cap once per frame, SPEC 6.3-6.4) sum each run in registers into
+// the cell's frame accumulator and merge each touched cell once per frame. Ageing (time
+// inflation, decay) is lazy, see begin_frame. All buffers are allocated in the
+// constructor.
 
 #include <algorithm>
 #include <cmath>

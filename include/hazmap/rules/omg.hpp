@@ -109,7 +109,8 @@ struct OmgRule {
   /// The decay of `frames` frames at once: S *= decay^frames (applied lazily by layers).
   static void age(const Config& cfg, Cell& c, std::uint32_t frames) {
     if (known(c) && frames > 0 && cfg.decay != 1.0)
-      c.weight = static_cast<float>(c.weight * (frames == 1 ? cfg.decay : std::pow(cfg.decay, double(frames))));
+      c.weight = static_cast<float>(
+          c.weight * (frames == 1 ? cfg.decay : std::pow(cfg.decay, double(frames))));
   }
   /// One frame's decay: S *= decay.
   static void begin_frame(const Config& cfg, Cell& c) { age(cfg, c, 1); }
