@@ -17,12 +17,12 @@ namespace {
 
 typedef float Vec8 __attribute__((vector_size(32)));
 typedef int Mask8 __attribute__((vector_size(32)));
+typedef int Index8 __attribute__((vector_size(32)));  ///< lane numbers for __builtin_shuffle
 
 [[gnu::always_inline]] inline void load8(const float* p, Vec8& v) { std::memcpy(&v, p, sizeof v); }
 [[gnu::always_inline]] inline void keep8(Vec8& v, const Mask8& live) {
   v = reinterpret_cast<Vec8>(reinterpret_cast<Mask8>(v) & live);
 }
-typedef int Index8 __attribute__((vector_size(32)));
 
 /// Pairwise sums of neighbouring lanes of a and b, per 128-bit half (x86 hadd order).
 [[gnu::always_inline]] inline void pair_sums(const Vec8& a, const Vec8& b, Vec8& out) {

@@ -5,8 +5,9 @@
 //
 // On a 1 cm layer a run is ~8 points. Walking runs point by point costs a mispredicted
 // branch at every run end; here the list is made eight slots at a time without a branch
-// (a compare, a bit mask and a table of its set bits), and each run is summed in one or
-// two vectors of eight lanes, so that no loop or call depends on where a run ends.
+// (a compare, a bit mask and a table of its set bits), and each run is summed in two
+// vectors of eight lanes (more only past 16 points), eight runs at a time, so that no
+// branch, loop or call depends on where a run ends.
 
 #include <vector>
 
