@@ -99,13 +99,6 @@ struct FrameSums : WeightedSums<double> {
     ++count;
   }
 
-  FrameSums& operator+=(const FrameSums& o) {
-    w += o.w, x += o.x, y += o.y, z += o.z;
-    xx += o.xx, yy += o.yy, zz += o.zz, xy += o.xy, xz += o.xz, yz += o.yz;
-    count += o.count;
-    return *this;
-  }
-
   /// Centred moments with x, y in metres (cell units times `cell_m`) relative to the cell
   /// centre and z relative to `z_ref_m` added back (absolute).
   Moments to_moments(double cell_m, double z_ref_m) const {

@@ -237,9 +237,11 @@ class RollingLayer final : public Layer {
     return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
   }
 
-  /// Frames of Rule::age a cell still owes: none on pooled layers (aged every frame).
+  /// Frames of Rule::age a cell still owes: none on pooled layers (aged every frame), and
+  /// none if the caller's frame numbers went backwards.
   std::uint32_t owed_frames(int slot) const {
-    return covered_.empty() ? frame_ - updated_frame_[slot] : 0;
+    const std::uint32_t last = updated_frame_[slot];
+    return covered_.empty() && frame_ > last ? frame_ - last : 0;
   }
   /// Applies the owed ageing before a merge (the merge then stamps the frame).
   void catch_up(int slot) {

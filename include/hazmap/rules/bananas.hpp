@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/map/chunk_runs.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
 
@@ -27,15 +27,6 @@ struct BananasRule {
   struct Sums {
     double last_z = 0;
     std::uint32_t count = 0;
-    void add(double, double, double, double z) {
-      last_z = z;
-      ++count;
-    }
-    Sums& operator+=(const Sums& o) {
-      if (o.count > 0) last_z = o.last_z;
-      count += o.count;
-      return *this;
-    }
   };
 
   static bool known(const Cell& c) { return !std::isnan(c.height_m); }

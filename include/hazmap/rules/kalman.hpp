@@ -20,10 +20,10 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/map/chunk_runs.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/split_height.hpp"
-#include "hazmap/map/chunk_runs.hpp"
 
 namespace hazmap {
 
@@ -52,11 +52,6 @@ struct KalmanRule {
     void add(double wt, double /*x*/, double /*y*/, double z) {
       w += wt;
       wz += wt * z;
-    }
-    Sums& operator+=(const Sums& o) {
-      w += o.w;
-      wz += o.wz;
-      return *this;
     }
   };
 

@@ -48,10 +48,6 @@ struct OmgRule {
       wzz += t * z;
       ++count;
     }
-    Sums& operator+=(const Sums& o) {
-      w += o.w, wz += o.wz, wzz += o.wzz, count += o.count;
-      return *this;
-    }
   };
 
   static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
