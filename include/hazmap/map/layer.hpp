@@ -39,8 +39,8 @@ class Layer {
  public:
   virtual ~Layer() = default;
 
-  /// Rolls the window to the robot (clearing cells that left) and applies the rule's
-  /// per-frame update (Kalman inflation, OMG decay) to known cells.
+  /// Rolls the window to the robot (clearing cells that left) and starts frame `frame`:
+  /// the rule's per-frame ageing (Kalman inflation, OMG decay) counts from it.
   virtual void begin_frame(double robot_x_m, double robot_y_m, std::uint32_t frame) = 0;
 
   /// A frame's insertion: begin_insert, insert_chunk over consecutive chunks of the

@@ -237,6 +237,10 @@ class RollingLayer final : public Layer {
     return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
   }
 
+  /// Whether points in `slot` go into this layer: inside the window (slot >= 0) and, when
+  /// pooling, not covered (a covered cell's points are in the finer layer).
+  bool takes(int slot) const { return slot >= 0 && (covered_.empty() || !covered_[slot]); }
+
   /// Frames of Rule::age a cell still owes: none on pooled layers (aged every frame), and
   /// none if the caller's frame numbers went backwards.
   std::uint32_t owed_frames(int slot) const {
@@ -311,7 +315,6 @@ class RollingLayer final : public Layer {
     const int* const slot = slot_buf_.data();
     runs_.find(slot, chunk.size);
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z, chunk.size);
-    const bool pooled = !covered_.empty();
     const double r = grid_.resolution_m();
     const int count = runs_.size();
     std::size_t used = 0;
@@ -323,7 +326,7 @@ class RollingLayer final : public Layer {
         __builtin_prefetch(&updated_frame_[ahead], 1);
       }
       const int s = slot[runs_.begin(k)];
-      if (s < 0 || (pooled && covered_[s])) continue;  // covered: the finer layer holds its points
+      if (!takes(s)) continue;
       used += static_cast<std::size_t>(runs_.end(k) - runs_.begin(k));
       catch_up(s);
       Rule::merge_frame(config_, cells_[s], Rule::run_sums(chunk, runs_, k), runs_.z0(), r);
@@ -339,7 +342,6 @@ class RollingLayer final : public Layer {
     const int* const slot = slot_buf_.data();
     const float* const cx = x_buf_.data();
     const float* const cy = y_buf_.data();
-    const bool pooled = !covered_.empty();
     const float* const w = Rule::weights(chunk);
     std::size_t used = 0;
     for (int i = 0; i < count;) {
@@ -350,7 +352,7 @@ class RollingLayer final : public Layer {
         __builtin_prefetch(&cells_[ahead]);
         __builtin_prefetch(&frame_index_[ahead]);
       }
-      if (s < 0 || (pooled && covered_[s])) {
+      if (!takes(s)) {
         i = end;
         continue;
       }
@@ -381,7 +383,7 @@ class RollingLayer final : public Layer {
   std::vector<typename Rule::Cell> cells_;
   std::vector<Accumulator> accumulators_;
   std::vector<std::uint32_t> updated_frame_;
-  std::vector<int> frame_index_;  ///< slot -> its accumulator this frame (see insert_chunk)
+  std::vector<int> frame_index_;  ///< slot -> its accumulator this frame (see accumulate_runs)
   std::vector<int> touched_;      ///< accumulator -> slot, in order of first touch
   int touched_count_ = 0;
   // Per-chunk scratch: slot (-1: dropped) and cell-centred x, y of each point.
