@@ -1,6 +1,6 @@
 // Time inflation (Kalman) and decay (OMG) as layers apply them: lazily, when a cell is
 // next merged or read. Checked against the rule's per-point recursion with one
-// begin_frame per frame, over frames with and without points in the cell.
+// Rule::age(1) per frame, over frames with and without points in the cell.
 
 #include <gtest/gtest.h>
 
@@ -37,11 +37,11 @@ PointCloud cell_points(CellIndex ix, int n, double z, std::mt19937_64& rng) {
 template <class Rule, class Check>
 void run_frames(const typename Rule::Config& cfg, Check check) {
   RollingLayer<Rule> layer(kSize, kCell, cfg);
-  typename Rule::Cell reference;  // per point, one begin_frame per frame
+  typename Rule::Cell reference;  // per point, one age(1) per frame
   std::mt19937_64 rng(3);
   for (std::uint32_t frame = 0; frame < 12; ++frame) {
     layer.begin_frame(0.0, 0.0, frame);
-    if (frame > 0) Rule::begin_frame(cfg, reference);
+    if (frame > 0) Rule::age(cfg, reference, 1);
     if (frame == 0 || frame == 4 || frame == 5 || frame == 11) {
       const PointCloud cloud = cell_points(1, 6, 0.3 + 0.01 * frame, rng);
       layer.insert(MapPoints(cloud));

@@ -53,8 +53,8 @@ TEST(KalmanRule, TimeInflationAddsQPerFrameToKnownCellsOnly) {
   KalmanRule::Cell known, unknown;
   KalmanRule::update(cfg, known, 0.1, 1e-5);
   for (int i = 0; i < 3; ++i) {
-    KalmanRule::begin_frame(cfg, known);
-    KalmanRule::begin_frame(cfg, unknown);
+    KalmanRule::age(cfg, known, 1);
+    KalmanRule::age(cfg, unknown, 1);
   }
   EXPECT_NEAR(KalmanRule::variance(known), 1e-5 + 3 * 2e-6, 1e-11);
   EXPECT_FALSE(KalmanRule::known(unknown));

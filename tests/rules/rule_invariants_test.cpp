@@ -165,7 +165,7 @@ TEST(OmgRule, WeightCapAndDecay) {
   OmgRule::update(cfg, c, 1.0, 0.001);  // w = 1000 > cap
   EXPECT_FLOAT_EQ(c.weight, 100.0f);
   EXPECT_FLOAT_EQ(c.variance_m2, 0.001f);  // first point: var = vm
-  OmgRule::begin_frame(cfg, c);
+  OmgRule::age(cfg, c, 1);
   EXPECT_FLOAT_EQ(c.weight, 50.0f);
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
 // Cell, Sums, kMergePerRun, kUsesHeightSums and static known / clear / reference_z /
-// weights / merge_frame / age / begin_frame / to_moments / from_moments / height /
-// variance, plus run_sums for rules that merge per run and add_run for the others).
+// weights / merge_frame / age / to_moments / from_moments / height / variance, plus
+// run_sums for rules that merge per run and add_run for the others).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
 // storage slot with straight-line arithmetic the compiler vectorises: one multiply per
@@ -65,7 +65,7 @@ class RollingLayer final : public Layer {
     // Pooled layers keep the per-frame pass: their covered cells are rebuilt from a prior
     // every frame, which is not a merge.
     if (!covered_.empty())
-      for (auto& cell : cells_) Rule::begin_frame(config_, cell);
+      for (auto& cell : cells_) Rule::age(config_, cell, 1);
   }
 
   void begin_insert() override {

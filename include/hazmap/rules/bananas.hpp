@@ -49,7 +49,6 @@ struct BananasRule {
   }
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}
-  static void begin_frame(const Config&, Cell&) {}
   /// Pooling view: an unweighted height sample.
   static Moments to_moments(const Cell& c) {
     Moments m;

@@ -97,7 +97,6 @@ struct CcmRule {
 
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}
-  static void begin_frame(const Config&, Cell&) {}
 
   // ---- Queries (SPEC 6.4); covariances are S / W. ----
 

@@ -101,8 +101,6 @@ struct KalmanRule {
       c.precision = static_cast<float>(double(c.precision) /
                                        (1.0 + double(frames) * cfg.time_inflation_m2 * c.precision));
   }
-  /// One frame's inflation: var += q.
-  static void begin_frame(const Config& cfg, Cell& c) { age(cfg, c, 1); }
 
   /// Pooling view: each cell is one measurement (mu, var): weight 1/var.
   static Moments to_moments(const Cell& c) {

@@ -108,8 +108,6 @@ struct OmgRule {
       c.weight = static_cast<float>(
           c.weight * (frames == 1 ? cfg.decay : std::pow(cfg.decay, double(frames))));
   }
-  /// One frame's decay: S *= decay.
-  static void begin_frame(const Config& cfg, Cell& c) { age(cfg, c, 1); }
 
   static float height(const Cell& c) {
     return known(c) ? static_cast<float>(mean(c)) : std::numeric_limits<float>::quiet_NaN();
