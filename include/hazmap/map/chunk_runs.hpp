@@ -6,8 +6,9 @@
 // On a 1 cm layer a run is ~8 points. Walking runs point by point costs a mispredicted
 // branch at every run end; here the list is made eight slots at a time without a branch
 // (a compare, a bit mask and a table of its set bits), and each run is summed in two
-// vectors of eight lanes (more only past 16 points), eight runs at a time, so that no
-// branch, loop or call depends on where a run ends.
+// vectors of eight lanes (more only past 16 points), eight runs at a time, or in one
+// masked vector of sixteen lanes with AVX-512, so that no branch, loop or call depends on
+// where a run ends (below 17 points).
 
 #include <vector>
 
@@ -23,12 +24,18 @@ int find_runs(const int* slot, int count, int* starts);
 /// The portable version of find_runs (what it runs where AVX2 is missing), for tests.
 int find_runs_portable(const int* slot, int count, int* starts);
 
-/// Weighted height sums of each run, heights relative to z0:
-///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z0)   over run r of `starts`.
-/// Summed in float lanes about the run's first height (as height_run), shifted to z0 in
-/// double. `w` and `z` must be readable up to count + 15 (PointChunk::kPad).
-void run_height_sums(const int* starts, int runs, const float* w, const float* z, double z0,
-                     double* sum_w, double* sum_wz);
+/// Weighted height sums of each run, heights relative to the run's first height:
+///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z[starts[r]])   over run r of `starts`.
+/// Float lanes: about the run's first height they keep ~1e-10 m of the run's mean. Sixteen
+/// lanes where the CPU has AVX-512 (one masked load covers a run of up to 16 points),
+/// else eight. `w` and `z` must be readable up to count + 15 (PointChunk::kPad);
+/// sum_w and sum_wz hold runs + 16 entries (whole vectors are stored).
+void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
+                     float* sum_wz);
+
+/// The eight-lane version of run_height_sums (what runs without AVX-512), for tests.
+void run_height_sums_8_lanes(const int* starts, int runs, const float* w, const float* z,
+                             float* sum_w, float* sum_wz);
 
 /// A chunk's runs in one layer, with the buffers sized once (PointChunk::kCapacity).
 class ChunkRuns {
@@ -36,26 +43,26 @@ class ChunkRuns {
   /// `height_sums`: also allocate the per-run sums (Kalman).
   explicit ChunkRuns(bool height_sums)
       : starts_(PointChunk::kStride + 8, 0),
-        sum_w_(height_sums ? PointChunk::kStride : 0, 0.0),
-        sum_wz_(sum_w_.size(), 0.0) {}
+        sum_w_(height_sums ? PointChunk::kStride + 16 : 0, 0.0f),
+        sum_wz_(sum_w_.size(), 0.0f) {}
 
   /// Lists the runs of slot[0, count).
   void find(const int* slot, int count) { runs_ = find_runs(slot, count, starts_.data()); }
-  /// Sums each run's heights about the chunk's first height (0 if that is not finite).
-  void sum_heights(const float* w, const float* z, int count);
+  /// Sums each run's weighted heights about the run's first height.
+  void sum_heights(const float* w, const float* z) {
+    run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data());
+  }
 
   int size() const { return runs_; }
   int begin(int r) const { return starts_[r]; }
   int end(int r) const { return starts_[r + 1]; }
-  double z0() const { return z0_; }
-  double sum_w(int r) const { return sum_w_[r]; }
-  double sum_wz(int r) const { return sum_wz_[r]; }  ///< relative to z0()
+  float sum_w(int r) const { return sum_w_[r]; }
+  float sum_wz(int r) const { return sum_wz_[r]; }  ///< relative to the run's first height
 
  private:
   std::vector<int> starts_;
   int runs_ = 0;
-  double z0_ = 0;
-  std::vector<double> sum_w_, sum_wz_;
+  std::vector<float> sum_w_, sum_wz_;
 };
 
 }  // namespace hazmap

@@ -314,23 +314,32 @@ class RollingLayer final : public Layer {
   std::size_t merge_runs(const PointChunk& chunk) {
     const int* const slot = slot_buf_.data();
     runs_.find(slot, chunk.size);
-    if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z, chunk.size);
-    const double r = grid_.resolution_m();
+    if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);
+    // Locals, so that the compiler need not reload members after each store to a cell.
+    const typename Rule::Config cfg = config_;
+    const double max_precision = Rule::max_precision(cfg);
+    typename Rule::Cell* const cells = cells_.data();
+    std::uint32_t* const stamps = updated_frame_.data();
+    const std::uint32_t frame = frame_;
+    const bool pooled = !covered_.empty();
     const int count = runs_.size();
     std::size_t used = 0;
     for (int k = 0; k < count; ++k) {
       // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
       const int ahead = slot[runs_.begin(std::min(k + kPrefetchRuns, count - 1))];
       if (ahead >= 0) {
-        __builtin_prefetch(&cells_[ahead], 1);
-        __builtin_prefetch(&updated_frame_[ahead], 1);
+        __builtin_prefetch(&cells[ahead], 1);
+        __builtin_prefetch(&stamps[ahead], 1);
       }
-      const int s = slot[runs_.begin(k)];
-      if (!takes(s)) continue;
-      used += static_cast<std::size_t>(runs_.end(k) - runs_.begin(k));
-      catch_up(s);
-      Rule::merge_frame(config_, cells_[s], Rule::run_sums(chunk, runs_, k), runs_.z0(), r);
-      updated_frame_[s] = frame_;
+      const int first = runs_.begin(k), s = slot[first];
+      if (s < 0 || (pooled && covered_[s])) continue;
+      used += static_cast<std::size_t>(runs_.end(k) - first);
+      // Frames of ageing owed (see owed_frames), without a branch.
+      const std::uint32_t last = stamps[s];
+      const std::uint32_t owed = !pooled && frame > last ? frame - last : 0;
+      Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), chunk.z[first], owed,
+                      max_precision);
+      stamps[s] = frame;
     }
     return used;
   }

@@ -33,17 +33,23 @@ struct BananasRule {
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.height_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }  // unused
-  /// Sums of run r of the chunk (points in one cell), relative to runs.z0(): the last
-  /// point counts.
+  /// Sums of run r of the chunk (points in one cell), relative to the run's first height:
+  /// the last point counts.
   static Sums run_sums(const PointChunk& chunk, const ChunkRuns& runs, int r) {
     Sums s;
-    s.last_z = double(chunk.z[runs.end(r) - 1]) - runs.z0();
+    s.last_z = double(chunk.z[runs.end(r) - 1]) - double(chunk.z[runs.begin(r)]);
     s.count = static_cast<std::uint32_t>(runs.end(r) - runs.begin(r));
     return s;
   }
   static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
     if (s.count > 0) c.height_m = static_cast<float>(z_ref_m + s.last_z);
   }
+  /// Nothing ages, so this is merge_frame.
+  static void merge_run(const Config& cfg, Cell& c, const Sums& s, double z_ref_m, std::uint32_t,
+                        double) {
+    merge_frame(cfg, c, s, z_ref_m, 0.0);
+  }
+  static double max_precision(const Config&) { return 0.0; }
   static void update(const Config&, Cell& c, double z_m, double /*vm_m2*/) {
     c.height_m = static_cast<float>(z_m);
   }

@@ -16,6 +16,7 @@
 // (var' = 1 / (1/var + sum 1/vm)) and the floor is a cap on the precision. The mean is a
 // SplitHeight, so cells far from the origin (|z| ~ 100 m) keep sub-micrometre resolution.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -60,7 +61,7 @@ struct KalmanRule {
   static double mean(const Cell& c) { return c.mean_m.value(); }
   static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
-  /// Sums of run r of the chunk (points in one cell), z relative to runs.z0().
+  /// Sums of run r of the chunk (points in one cell), z relative to the run's first height.
   static Sums run_sums(const PointChunk& /*chunk*/, const ChunkRuns& runs, int r) {
     Sums s;
     s.w = runs.sum_w(r);
@@ -84,6 +85,27 @@ struct KalmanRule {
   /// var >= floor  <=>  precision <= 1 / floor (a division only when the cap applies).
   static float floored(const Config& cfg, double precision) {
     return static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2 : precision);
+  }
+
+  /// age(cfg, c, owed) then merge_frame(cfg, c, s, z_ref_m), fused into one division and
+  /// no branch on the cell (layers merge runs this way). With p the cell's precision,
+  /// D = 1 + owed q p the ageing divisor and A = p + D W:
+  ///   precision' = p / D + W = A / D,   mean' - z_ref = (p off + D WZ) / A,
+  /// and both quotients come from r = 1 / (D A). A cleared cell (p = 0, mean 0) needs no
+  /// case of its own: D = 1 and mean' = WZ / W.
+  static void merge_run(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
+                        std::uint32_t owed, double max_precision) {
+    if (!(s.w > 0)) return;
+    const double p = c.precision, off = c.mean_m.value() - z_ref_m;
+    const double d = 1.0 + double(owed) * cfg.time_inflation_m2 * p;
+    const double a = p + d * s.w;
+    const double r = 1.0 / (d * a);
+    c.mean_m.set(z_ref_m + (p * off + d * s.wz) * d * r);
+    c.precision = static_cast<float>(std::min(a * a * r, max_precision));
+  }
+  /// The precision cap merge_run takes: 1 / min_variance (infinite without a floor).
+  static double max_precision(const Config& cfg) {
+    return cfg.min_variance_m2 > 0 ? 1.0 / cfg.min_variance_m2 : std::numeric_limits<double>::infinity();
   }
 
   /// Sequential single-point update (the SPEC 6.2 recursion), for tests and references.
