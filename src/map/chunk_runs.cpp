@@ -173,8 +173,8 @@ __attribute__((target("avx512f,bmi2"), always_inline)) inline __mmask16 first_la
 }
 
 __attribute__((target("avx512f,bmi2"))) void run_height_sums_avx512(const int* starts, int runs,
-                                                                      const float* w, const float* z,
-                                                                      float* sum_w, float* sum_wz) {
+                                                                    const float* w, const float* z,
+                                                                    float* sum_w, float* sum_wz) {
   // reduce16's lane order, undone by one permute per quantity.
   const __m512i order = _mm512_setr_epi32(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
   for (int r0 = 0; r0 < runs; r0 += 16) {

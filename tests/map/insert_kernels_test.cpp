@@ -22,70 +22,74 @@ namespace {
 struct ChunkArrays {
   std::vector<float> x, y, z, inv_var_z, ccm_weight, lateral_var;
   ChunkArrays() {
-    for (auto* v : {&x, &y, &z, &inv_var_z, &ccm_weight, &lateral_var}) v->assign(PointChunk::kStride, 0.0f);
+    for (auto* v : {&x, &y, &z, &inv_var_z, &ccm_weight, &lateral_var})
+      v->assign(PointChunk::kStride, 0.0f);
   }
   PointChunk view(int size) const {
-    return PointChunk{x.data(), y.data(), z.data(), inv_var_z.data(), ccm_weight.data(), lateral_var.data(), size};
+    return PointChunk{x.data(),          y.data(),           z.data(), inv_var_z.data(),
+                      ccm_weight.data(), lateral_var.data(), size};
   }
 };
 
 TEST(LocatePoints, MatchesScalarFloorAndModulo) {
   std::mt19937_64 rng(5);
-  for (const auto& [n, r, robot_x, robot_y] :
-       {std::tuple{250, 0.04, 3.3, -7.9}, std::tuple{1000, 0.01, -123.45, 56.78},
-        std::tuple{16, 0.64, 0.0, 0.0}}) {
-    RollingGrid grid(n, r);
-    grid.move_to(robot_x, robot_y);
-    grid.move_to(robot_x + 0.37 * n * r, robot_y - 0.21 * n * r);  // wrapped ring
-    WindowIndex w;
-    w.x0_m = double(grid.origin_x()) * r;
-    w.y0_m = double(grid.origin_y()) * r;
-    w.inv_resolution = 1.0 / r;
-    w.size = n;
-    w.wrap_x = wrap_index(grid.origin_x(), n);
-    w.wrap_y = wrap_index(grid.origin_y(), n);
-    std::uniform_real_distribution<double> u(-0.2, 1.2);  // some points outside
-    ChunkArrays chunk;
-    const int size = PointChunk::kCapacity;
-    for (int i = 0; i < size; ++i) {
-      chunk.x[i] = float(w.x0_m + u(rng) * n * r);
-      chunk.y[i] = float(w.y0_m + u(rng) * n * r);
-      chunk.lateral_var[i] = float(i % 3) * 1e-6f;
-    }
-    chunk.x[7] = std::numeric_limits<float>::quiet_NaN();
-    chunk.y[9] = std::numeric_limits<float>::infinity();
-    std::vector<int> slot(PointChunk::kStride);
-    std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
-    const float gate = 1.5e-6f;
-    locate_points(chunk.view(size), w, gate, slot.data(), cx.data(), cy.data());
-    int inside = 0, boundary = 0;
-    for (int i = 0; i < size; ++i) {
-      const double fx = (double(chunk.x[i]) - w.x0_m) / r, fy = (double(chunk.y[i]) - w.y0_m) / r;
-      // Points within 1e-4 cell of a cell edge may fall either way in float arithmetic.
-      if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) {
-        ++boundary;
-        continue;
+  // Both versions; N = 5000 takes the portable one in locate_points too (N^2 > 2^24).
+  for (const auto locate : {&locate_points, &locate_points_portable})
+    for (const auto& [n, r, robot_x, robot_y] :
+         {std::tuple{250, 0.04, 3.3, -7.9}, std::tuple{1000, 0.01, -123.45, 56.78},
+          std::tuple{16, 0.64, 0.0, 0.0}, std::tuple{5000, 0.002, 0.7, 1.1}}) {
+      RollingGrid grid(n, r);
+      grid.move_to(robot_x, robot_y);
+      grid.move_to(robot_x + 0.37 * n * r, robot_y - 0.21 * n * r);  // wrapped ring
+      WindowIndex w;
+      w.x0_m = double(grid.origin_x()) * r;
+      w.y0_m = double(grid.origin_y()) * r;
+      w.inv_resolution = 1.0 / r;
+      w.size = n;
+      w.wrap_x = wrap_index(grid.origin_x(), n);
+      w.wrap_y = wrap_index(grid.origin_y(), n);
+      std::uniform_real_distribution<double> u(-0.2, 1.2);  // some points outside
+      ChunkArrays chunk;
+      const int size = PointChunk::kCapacity;
+      for (int i = 0; i < size; ++i) {
+        chunk.x[i] = float(w.x0_m + u(rng) * n * r);
+        chunk.y[i] = float(w.y0_m + u(rng) * n * r);
+        chunk.lateral_var[i] = float(i % 3) * 1e-6f;
       }
-      const double lx = std::floor(fx), ly = std::floor(fy);
-      const bool in = std::isfinite(fx) && std::isfinite(fy) && lx >= 0 && lx < n && ly >= 0 &&
-                      ly < n && !(chunk.lateral_var[i] > gate);
-      if (!in) {
-        EXPECT_EQ(slot[i], -1) << "point " << i;
-        continue;
+      chunk.x[7] = std::numeric_limits<float>::quiet_NaN();
+      chunk.y[9] = std::numeric_limits<float>::infinity();
+      std::vector<int> slot(PointChunk::kStride);
+      std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
+      const float gate = 1.5e-6f;
+      locate(chunk.view(size), w, gate, slot.data(), cx.data(), cy.data());
+      int inside = 0, boundary = 0;
+      for (int i = 0; i < size; ++i) {
+        const double fx = (double(chunk.x[i]) - w.x0_m) / r, fy = (double(chunk.y[i]) - w.y0_m) / r;
+        // Points within 1e-4 cell of a cell edge may fall either way in float arithmetic.
+        if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) {
+          ++boundary;
+          continue;
+        }
+        const double lx = std::floor(fx), ly = std::floor(fy);
+        const bool in = std::isfinite(fx) && std::isfinite(fy) && lx >= 0 && lx < n && ly >= 0 &&
+                        ly < n && !(chunk.lateral_var[i] > gate);
+        if (!in) {
+          EXPECT_EQ(slot[i], -1) << "point " << i;
+          continue;
+        }
+        ++inside;
+        const CellIndex ix = grid.origin_x() + CellIndex(lx), iy = grid.origin_y() + CellIndex(ly);
+        ASSERT_EQ(slot[i], grid.slot(ix, iy)) << "point " << i;
+        EXPECT_NEAR(cx[i], fx - lx - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
+        EXPECT_NEAR(cy[i], fy - ly - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
       }
-      ++inside;
-      const CellIndex ix = grid.origin_x() + CellIndex(lx), iy = grid.origin_y() + CellIndex(ly);
-      ASSERT_EQ(slot[i], grid.slot(ix, iy)) << "point " << i;
-      EXPECT_NEAR(cx[i], fx - lx - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
-      EXPECT_NEAR(cy[i], fy - ly - 0.5, 2e-4 * n / 1000.0 + 1e-6) << "point " << i;
+      EXPECT_GT(inside, size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
+      EXPECT_LT(boundary, 20);
+      // Without position outputs no gate applies.
+      locate(chunk.view(size), w, gate, slot.data(), nullptr, nullptr);
+      EXPECT_EQ(slot[7], -1);
+      EXPECT_EQ(slot[9], -1);
     }
-    EXPECT_GT(inside, size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
-    EXPECT_LT(boundary, 20);
-    // Without position outputs no gate applies.
-    locate_points(chunk.view(size), w, gate, slot.data(), nullptr, nullptr);
-    EXPECT_EQ(slot[7], -1);
-    EXPECT_EQ(slot[9], -1);
-  }
 }
 
 TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
@@ -110,7 +114,8 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       FrameSums got, want;
       got.w = 1.0;  // runs add to what is there
       want.w = 1.0;
-      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end}, z_ref, got);
+      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end},
+                    z_ref, got);
       for (int k = begin; k < end; ++k)
         want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
       c.z[end] = saved;
@@ -148,8 +153,8 @@ TEST(HeightRun, EqualsScalarDoubleSums) {
       const float saved = c.z[end];
       c.z[end] = std::numeric_limits<float>::quiet_NaN();
       const double z_ref = -80.002;
-      const HeightSums got =
-          height_run(RunPoints{c.inv_var_z.data(), nullptr, nullptr, c.z.data(), begin, end}, z_ref);
+      const HeightSums got = height_run(
+          RunPoints{c.inv_var_z.data(), nullptr, nullptr, c.z.data(), begin, end}, z_ref);
       c.z[end] = saved;
       double w = 0, wz = 0, wzz = 0;
       for (int k = begin; k < end; ++k) {

@@ -1,8 +1,8 @@
 #include "hazmap/rules/kalman.hpp"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "hazmap/rules/bananas.hpp"
 
@@ -33,7 +33,8 @@ TEST(KalmanRule, EqualsBatchInverseVarianceEstimate) {
       sum_w += 1.0 / (s * s);
       sum_wz += z / (s * s);
     }
-    EXPECT_NEAR(KalmanRule::mean(c), sum_wz / sum_w, 1e-5 * std::max(1.0, std::abs(sum_wz / sum_w)));
+    EXPECT_NEAR(KalmanRule::mean(c), sum_wz / sum_w,
+                1e-5 * std::max(1.0, std::abs(sum_wz / sum_w)));
     EXPECT_NEAR(KalmanRule::variance(c), 1.0 / sum_w, 1e-5 / sum_w);
   }
 }
@@ -58,6 +59,35 @@ TEST(KalmanRule, TimeInflationAddsQPerFrameToKnownCellsOnly) {
   }
   EXPECT_NEAR(KalmanRule::variance(known), 1e-5 + 3 * 2e-6, 1e-11);
   EXPECT_FALSE(KalmanRule::known(unknown));
+}
+
+TEST(KalmanRule, MergeRunEqualsAgeingThenMerge) {
+  // merge_run's fused single-division form against age() followed by merge_frame(), on
+  // cleared and known cells, with and without owed frames, below and at the floor.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const KalmanRule::Config cfg :
+       {KalmanRule::Config{1e-6, 1e-6}, KalmanRule::Config{3e-5, 0.0}}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      KalmanRule::Cell cell;
+      if (trial % 4 != 0) KalmanRule::update(cfg, cell, 12.3 + 0.1 * u(rng), 1e-6 + 1e-4 * u(rng));
+      const std::uint32_t owed = static_cast<std::uint32_t>(trial % 3) * 2;
+      KalmanRule::Sums s;
+      s.w = 1e3 + 2e6 * u(rng);
+      s.wz = s.w * (0.05 * u(rng) - 0.025);  // run mean within 2.5 cm of its first height
+      const double z_ref = 12.3 + 0.1 * u(rng);
+      KalmanRule::Cell fused = cell, reference = cell;
+      KalmanRule::merge_run(cfg, fused, s, z_ref, owed, KalmanRule::max_precision(cfg));
+      KalmanRule::age(cfg, reference, owed);
+      KalmanRule::merge_frame(cfg, reference, s, z_ref, 0.01);
+      ASSERT_NEAR(KalmanRule::mean(fused), KalmanRule::mean(reference), 1e-9) << trial;
+      ASSERT_NEAR(fused.precision, reference.precision, 1e-6 * reference.precision) << trial;
+    }
+  }
+  // A run of weight zero changes nothing.
+  KalmanRule::Cell c;
+  KalmanRule::merge_run({}, c, KalmanRule::Sums{}, 1.0, 0, 1e6);
+  EXPECT_FALSE(KalmanRule::known(c));
 }
 
 TEST(BananasRule, KeepsTheLastHeight) {

@@ -20,7 +20,13 @@ struct WindowIndex {
 /// Fills slot[i] for the chunk's points: -1 when outside the window. With cx and cy (plane
 /// rules) also the cell-centred position in cell units, and -1 for points whose
 /// lateral_var exceeds gate_var. The output arrays hold at least chunk.size entries.
+/// Where the CPU has AVX2 and N <= 4096, in float lanes with intrinsics; the output
+/// arrays then hold chunk.size rounded up to 8 entries.
 void locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var, int* slot,
                    float* cx, float* cy);
+
+/// The version locate_points runs without AVX2 or for N > 4096, for tests.
+void locate_points_portable(const PointChunk& chunk, const WindowIndex& window, float gate_var,
+                            int* slot, float* cx, float* cy);
 
 }  // namespace hazmap

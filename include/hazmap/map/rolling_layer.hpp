@@ -68,9 +68,7 @@ class RollingLayer final : public Layer {
       for (auto& cell : cells_) Rule::age(config_, cell, 1);
   }
 
-  void begin_insert() override {
-    touched_count_ = 0;
-  }
+  void begin_insert() override { touched_count_ = 0; }
 
   std::size_t insert_chunk(const PointChunk& chunk) override {
     const int n = grid_.size();
@@ -110,7 +108,8 @@ class RollingLayer final : public Layer {
   void update_coverage(const RollingGrid& finer) override {
     if (covered_.empty()) return;
     const int n = grid_.size();
-    const auto ratio = static_cast<CellIndex>(std::llround(grid_.resolution_m() / finer.resolution_m()));
+    const auto ratio =
+        static_cast<CellIndex>(std::llround(grid_.resolution_m() / finer.resolution_m()));
     const CellIndex f0x = finer.origin_x(), f0y = finer.origin_y(), fn = finer.size();
     for (int ly = 0; ly < n; ++ly) {
       const CellIndex iy = grid_.origin_y() + ly;
@@ -143,7 +142,8 @@ class RollingLayer final : public Layer {
         if (!Rule::known(c)) continue;
         Moments m = Rule::to_moments(c);
         // Child-centric -> parent-centric coordinates.
-        m.shift(cell_center(ix, rc) - cell_center(px, rp), cell_center(iy, rc) - cell_center(py, rp));
+        m.shift(cell_center(ix, rc) - cell_center(px, rp),
+                cell_center(iy, rc) - cell_center(py, rp));
         pool.cells[pslot].merge(m);
       }
     }
@@ -168,16 +168,18 @@ class RollingLayer final : public Layer {
     const int n = grid_.size();
     const double r = grid_.resolution_m();
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    auto reset = [&](DenseGrid& g) { g.reset(n, n, r, grid_.center_x_m(), grid_.center_y_m(), nan); };
+    auto reset = [&](DenseGrid& g) {
+      g.reset(n, n, r, grid_.center_x_m(), grid_.center_y_m(), nan);
+    };
     reset(out.height);
     reset(out.variance);
     if constexpr (Rule::kHasPlane) {
-      for (DenseGrid* g : {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage,
-                           &out.evaluable})
+      for (DenseGrid* g :
+           {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage, &out.evaluable})
         reset(*g);
     } else {
-      for (DenseGrid* g : {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage,
-                           &out.evaluable})
+      for (DenseGrid* g :
+           {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage, &out.evaluable})
         g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
     }
     for (int row = 0; row < n; ++row) {
@@ -301,9 +303,9 @@ class RollingLayer final : public Layer {
           gx = diff(h(row, col - 1), mid, h(row, col + 1), r);
           gy = diff(h(row + 1, col), mid, h(row - 1, col), r);  // row 0 = largest y
         }
-        const double added = pose.added_variance(updated_frame_[grid_.slot(ix, iy)],
-                                                 cell_center(ix, r) - rx, cell_center(iy, r) - ry,
-                                                 gx, gy);
+        const double added =
+            pose.added_variance(updated_frame_[grid_.slot(ix, iy)], cell_center(ix, r) - rx,
+                                cell_center(iy, r) - ry, gx, gy);
         out.variance.at(row, col) = static_cast<float>((std::isnan(v) ? 0.0 : v) + added);
       }
     }

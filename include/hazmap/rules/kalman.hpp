@@ -84,7 +84,8 @@ struct KalmanRule {
 
   /// var >= floor  <=>  precision <= 1 / floor (a division only when the cap applies).
   static float floored(const Config& cfg, double precision) {
-    return static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2 : precision);
+    return static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2
+                                                                    : precision);
   }
 
   /// age(cfg, c, owed) then merge_frame(cfg, c, s, z_ref_m), fused into one division and
@@ -105,7 +106,8 @@ struct KalmanRule {
   }
   /// The precision cap merge_run takes: 1 / min_variance (infinite without a floor).
   static double max_precision(const Config& cfg) {
-    return cfg.min_variance_m2 > 0 ? 1.0 / cfg.min_variance_m2 : std::numeric_limits<double>::infinity();
+    return cfg.min_variance_m2 > 0 ? 1.0 / cfg.min_variance_m2
+                                   : std::numeric_limits<double>::infinity();
   }
 
   /// Sequential single-point update (the SPEC 6.2 recursion), for tests and references.
@@ -120,8 +122,8 @@ struct KalmanRule {
   /// next merged or read, so that a frame does not pass over every cell.
   static void age(const Config& cfg, Cell& c, std::uint32_t frames) {
     if (known(c) && cfg.time_inflation_m2 > 0 && frames > 0)
-      c.precision = static_cast<float>(double(c.precision) /
-                                       (1.0 + double(frames) * cfg.time_inflation_m2 * c.precision));
+      c.precision = static_cast<float>(
+          double(c.precision) / (1.0 + double(frames) * cfg.time_inflation_m2 * c.precision));
   }
 
   /// Pooling view: each cell is one measurement (mu, var): weight 1/var.
