@@ -1,7 +1,6 @@
 #include "hazmap/map/chunk_runs.hpp"
 
 #include <array>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -9,7 +8,7 @@
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
-#define HAZMAP_HAVE_X86_SIMD 1
+#define HAZMAP_HAVE_AVX2_RUNS 1
 #endif
 
 namespace hazmap {
@@ -43,7 +42,7 @@ typedef int Index8 __attribute__((vector_size(32)));  ///< lane numbers for __bu
         __builtin_shuffle(h0123, h4567, Index8{4, 5, 6, 7, 12, 13, 14, 15});
 }
 
-#ifdef HAZMAP_HAVE_X86_SIMD
+#ifdef HAZMAP_HAVE_AVX2_RUNS
 /// For each 8-bit mask, the positions of its set bits, one per byte, lowest first.
 constexpr std::array<std::uint64_t, 256> make_set_bit_table() {
   std::array<std::uint64_t, 256> table{};
@@ -99,15 +98,15 @@ int find_runs_portable(const int* slot, int count, int* starts) {
 }
 
 int find_runs(const int* slot, int count, int* starts) {
-#ifdef HAZMAP_HAVE_X86_SIMD
+#ifdef HAZMAP_HAVE_AVX2_RUNS
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   if (avx2 && count > 0) return find_runs_avx2(slot, count, starts);
 #endif
   return find_runs_portable(slot, count, starts);
 }
 
-HAZMAP_KERNEL void run_height_sums_8_lanes(const int* starts, int runs, const float* w,
-                                           const float* z, float* sum_w, float* sum_wz) {
+HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, const float* z,
+                                   float* sum_w, float* sum_wz) {
   const Mask8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
   // Eight runs at a time: each run's lanes are summed in one vector per quantity, then
   // the eight vectors are reduced together by a tree of pairwise adds (one result lane per
@@ -142,79 +141,6 @@ HAZMAP_KERNEL void run_height_sums_8_lanes(const int* starts, int runs, const fl
     std::memcpy(sum_w + r0, &tw, sizeof tw);
     std::memcpy(sum_wz + r0, &twz, sizeof twz);
   }
-}
-
-#ifdef HAZMAP_HAVE_X86_SIMD
-// GCC 12's _mm512_shuffle_f32x4 passes an undefined vector as its unused merge source.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-namespace {
-
-/// Lane j of the result = the sum of the lanes of v[4 (j % 4) + j / 4]: a tree of
-/// pairwise adds over 512, 256 and 128-bit pieces (two shuffles and an add per pair).
-__attribute__((target("avx512f"), always_inline)) inline __m512 reduce16(const __m512 (&v)[16]) {
-  __m512 halves[8], quarters[4], pairs[2];
-  for (int j = 0; j < 8; ++j)  // lanes 0-7: v[2j] folded to eight, 8-15: v[2j + 1]
-    halves[j] = _mm512_add_ps(_mm512_shuffle_f32x4(v[2 * j], v[2 * j + 1], 0x44),
-                              _mm512_shuffle_f32x4(v[2 * j], v[2 * j + 1], 0xEE));
-  for (int j = 0; j < 4; ++j)  // 128-bit piece q: v[4j + q] folded to four
-    quarters[j] = _mm512_add_ps(_mm512_shuffle_f32x4(halves[2 * j], halves[2 * j + 1], 0x88),
-                                _mm512_shuffle_f32x4(halves[2 * j], halves[2 * j + 1], 0xDD));
-  for (int j = 0; j < 2; ++j)
-    pairs[j] = _mm512_add_ps(_mm512_shuffle_ps(quarters[2 * j], quarters[2 * j + 1], 0x44),
-                             _mm512_shuffle_ps(quarters[2 * j], quarters[2 * j + 1], 0xEE));
-  return _mm512_add_ps(_mm512_shuffle_ps(pairs[0], pairs[1], 0x88),
-                       _mm512_shuffle_ps(pairs[0], pairs[1], 0xDD));
-}
-
-/// A mask of the first min(n, 16) lanes.
-__attribute__((target("avx512f,bmi2"), always_inline)) inline __mmask16 first_lanes(int n) {
-  return static_cast<__mmask16>(_bzhi_u32(0xFFFFu, static_cast<unsigned>(n < 16 ? n : 16)));
-}
-
-__attribute__((target("avx512f,bmi2"))) void run_height_sums_avx512(const int* starts, int runs,
-                                                                    const float* w, const float* z,
-                                                                    float* sum_w, float* sum_wz) {
-  // reduce16's lane order, undone by one permute per quantity.
-  const __m512i order = _mm512_setr_epi32(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
-  for (int r0 = 0; r0 < runs; r0 += 16) {
-    __m512 acc_w[16], acc_wz[16];
-    for (int j = 0; j < 16; ++j) {
-      const int r = r0 + j;
-      const bool valid = r < runs;
-      const int b = valid ? starts[r] : 0, n = valid ? starts[r + 1] - b : 0;
-      const __m512 zb = _mm512_set1_ps(z[b]);
-      // Masked loads: lanes past the run read nothing and are zero.
-      __mmask16 m = first_lanes(n);
-      __m512 pw = _mm512_maskz_loadu_ps(m, w + b);
-      __m512 pz = _mm512_maskz_sub_ps(m, _mm512_maskz_loadu_ps(m, z + b), zb);
-      __m512 aw = pw, awz = _mm512_mul_ps(pw, pz);
-      for (int k = 16; k < n; k += 16) {  // rare on a 1 cm layer
-        m = first_lanes(n - k);
-        pw = _mm512_maskz_loadu_ps(m, w + b + k);
-        pz = _mm512_maskz_sub_ps(m, _mm512_maskz_loadu_ps(m, z + b + k), zb);
-        aw = _mm512_add_ps(aw, pw);
-        awz = _mm512_fmadd_ps(pw, pz, awz);
-      }
-      acc_w[j] = aw;
-      acc_wz[j] = awz;
-    }
-    _mm512_storeu_ps(sum_w + r0, _mm512_permutexvar_ps(order, reduce16(acc_w)));
-    _mm512_storeu_ps(sum_wz + r0, _mm512_permutexvar_ps(order, reduce16(acc_wz)));
-  }
-}
-
-}  // namespace
-#pragma GCC diagnostic pop
-#endif
-
-void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
-                     float* sum_wz) {
-#ifdef HAZMAP_HAVE_X86_SIMD
-  static const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("bmi2");
-  if (avx512) return run_height_sums_avx512(starts, runs, w, z, sum_w, sum_wz);
-#endif
-  run_height_sums_8_lanes(starts, runs, w, z, sum_w, sum_wz);
 }
 
 }  // namespace hazmap

@@ -6,9 +6,8 @@
 // On a 1 cm layer a run is ~8 points. Walking runs point by point costs a mispredicted
 // branch at every run end; here the list is made eight slots at a time without a branch
 // (a compare, a bit mask and a table of its set bits), and each run is summed in two
-// vectors of eight lanes (more only past 16 points), eight runs at a time, or in one
-// masked vector of sixteen lanes with AVX-512, so that no branch, loop or call depends on
-// where a run ends (below 17 points).
+// vectors of eight lanes (more only past 16 points), eight runs at a time, so that no
+// branch, loop or call depends on where a run ends (below 17 points).
 
 #include <vector>
 
@@ -26,16 +25,11 @@ int find_runs_portable(const int* slot, int count, int* starts);
 
 /// Weighted height sums of each run, heights relative to the run's first height:
 ///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z[starts[r]])   over run r of `starts`.
-/// Float lanes: about the run's first height they keep ~1e-10 m of the run's mean. Sixteen
-/// lanes where the CPU has AVX-512 (one masked load covers a run of up to 16 points),
-/// else eight. `w` and `z` must be readable up to count + 15 (PointChunk::kPad);
-/// sum_w and sum_wz hold runs + 16 entries (whole vectors are stored).
+/// Float lanes: about the run's first height they keep ~1e-10 m of the run's mean.
+/// `w` and `z` must be readable up to count + 15 (PointChunk::kPad); sum_w and sum_wz
+/// hold runs + 8 entries (results are stored as whole vectors of eight).
 void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
                      float* sum_wz);
-
-/// The eight-lane version of run_height_sums (what runs without AVX-512), for tests.
-void run_height_sums_8_lanes(const int* starts, int runs, const float* w, const float* z,
-                             float* sum_w, float* sum_wz);
 
 /// A chunk's runs in one layer, with the buffers sized once (PointChunk::kCapacity).
 class ChunkRuns {
@@ -43,7 +37,7 @@ class ChunkRuns {
   /// `height_sums`: also allocate the per-run sums (Kalman).
   explicit ChunkRuns(bool height_sums)
       : starts_(PointChunk::kStride + 8, 0),
-        sum_w_(height_sums ? PointChunk::kStride + 16 : 0, 0.0f),
+        sum_w_(height_sums ? PointChunk::kStride + 8 : 0, 0.0f),
         sum_wz_(sum_w_.size(), 0.0f) {}
 
   /// Lists the runs of slot[0, count).
