@@ -1,9 +1,10 @@
 #pragma once
 // Pass 1 of a layer's insertion: each point of a chunk -> its storage slot in the layer's
-// ring buffer and its cell-centred position. Straight-line arithmetic over plain arrays,
-// so the compiler runs it in SIMD lanes: one multiply per axis (no division by the
-// resolution), a floor, an unsigned bounds test and a conditional subtract for the ring
-// wrap (no modulo, no table, no branch).
+// ring buffer and its cell-centred position. Straight-line arithmetic in SIMD lanes: one
+// multiply per axis (no division by the resolution), a floor, a bounds test and a
+// conditional subtract for the ring wrap (no modulo, no table, no branch). Written with
+// AVX2 intrinsics in float where the CPU has AVX2, else as plain loops the compiler
+// vectorises.
 
 #include "hazmap/map/point_chunk.hpp"
 

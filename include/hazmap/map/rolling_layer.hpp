@@ -2,12 +2,13 @@
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
 // Cell, Sums, kMergePerRun, kUsesHeightSums and static known / clear / reference_z /
 // weights / merge_frame / age / to_moments / from_moments / height / variance, plus
-// run_sums for rules that merge per run and add_run for the others).
+// run_sums, merge_run and max_precision for rules that merge per run and add_run for the
+// others).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
-// storage slot with straight-line arithmetic the compiler vectorises: one multiply per
-// axis (no division by the resolution), a floor, an unsigned bounds test and a
-// conditional subtract for the ring wrap (no modulo, no table, no branch). Pass 2 works
+// storage slot with straight-line SIMD arithmetic (chunk_slots.hpp): one multiply per
+// axis (no division by the resolution), a floor, a bounds test and a conditional
+// subtract for the ring wrap (no modulo, no table, no branch). Pass 2 works
 // on the runs of equal slots (scan lines cross cells in runs). Rules whose merge does not
 // depend on how a frame's points are grouped (Rule::kMergePerRun: Kalman, the baseline)
 // list the chunk's runs and sum them without a branch on where runs end
@@ -243,11 +244,13 @@ class RollingLayer final : public Layer {
   /// pooling, not covered (a covered cell's points are in the finer layer).
   bool takes(int slot) const { return slot >= 0 && (covered_.empty() || !covered_[slot]); }
 
-  /// Frames of Rule::age a cell still owes: none on pooled layers (aged every frame), and
-  /// none if the caller's frame numbers went backwards.
+  /// Frames of Rule::age a cell last merged in frame `last` still owes in frame `now`:
+  /// none on pooled layers (aged every frame), and none if frame numbers went backwards.
+  static std::uint32_t owed_frames(std::uint32_t now, std::uint32_t last, bool pooled) {
+    return !pooled && now > last ? now - last : 0;
+  }
   std::uint32_t owed_frames(int slot) const {
-    const std::uint32_t last = updated_frame_[slot];
-    return covered_.empty() && frame_ > last ? frame_ - last : 0;
+    return owed_frames(frame_, updated_frame_[slot], !covered_.empty());
   }
   /// Applies the owed ageing before a merge (the merge then stamps the frame).
   void catch_up(int slot) {
@@ -334,13 +337,10 @@ class RollingLayer final : public Layer {
         __builtin_prefetch(&stamps[ahead], 1);
       }
       const int first = runs_.begin(k), s = slot[first];
-      if (s < 0 || (pooled && covered_[s])) continue;
+      if (!takes(s)) continue;
       used += static_cast<std::size_t>(runs_.end(k) - first);
-      // Frames of ageing owed (see owed_frames), without a branch.
-      const std::uint32_t last = stamps[s];
-      const std::uint32_t owed = !pooled && frame > last ? frame - last : 0;
-      Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), chunk.z[first], owed,
-                      max_precision);
+      Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), chunk.z[first],
+                      owed_frames(frame, stamps[s], pooled), max_precision);
       stamps[s] = frame;
     }
     return used;

@@ -49,6 +49,7 @@ struct BananasRule {
                         double) {
     merge_frame(cfg, c, s, z_ref_m, 0.0);
   }
+  /// No precision to cap (merge_run ignores its last argument).
   static double max_precision(const Config&) { return 0.0; }
   static void update(const Config&, Cell& c, double z_m, double /*vm_m2*/) {
     c.height_m = static_cast<float>(z_m);
