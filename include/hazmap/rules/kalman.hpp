@@ -73,13 +73,7 @@ struct KalmanRule {
   /// information-form update, then the floor as a cap on the precision.
   static void merge_frame(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
                           double /*cell_m*/) {
-    if (!(s.w > 0)) return;
-    // Relative to z_ref_m (the sums' reference): prior mean offset and the new mean.
-    const double prior = known(c) ? double(c.precision) : 0.0;
-    const double off = known(c) ? mean(c) - z_ref_m : 0.0;
-    const double precision = prior + s.w;
-    c.mean_m.set(z_ref_m + (prior * off + s.wz) / precision);
-    c.precision = floored(cfg, precision);
+    merge_run(cfg, c, s, z_ref_m, 0, max_precision(cfg));
   }
 
   /// var >= floor  <=>  precision <= 1 / floor (a division only when the cap applies).
@@ -88,9 +82,10 @@ struct KalmanRule {
                                                                     : precision);
   }
 
-  /// age(cfg, c, owed) then merge_frame(cfg, c, s, z_ref_m), fused into one division and
-  /// no branch on the cell (layers merge runs this way). With p the cell's precision,
-  /// D = 1 + owed q p the ageing divisor and A = p + D W:
+  /// age(cfg, c, owed), then the information-form merge of sums s (z relative to z_ref_m)
+  /// and the floor as a cap on the precision, fused into one division and no branch on
+  /// the cell (layers merge runs this way). With p the cell's precision, off its mean
+  /// relative to z_ref_m, D = 1 + owed q p the ageing divisor and A = p + D W:
   ///   precision' = p / D + W = A / D,   mean' - z_ref = (p off + D WZ) / A,
   /// and both quotients come from r = 1 / (D A). A cleared cell (p = 0, mean 0) needs no
   /// case of its own: D = 1 and mean' = WZ / W.
