@@ -76,10 +76,9 @@ struct KalmanRule {
     merge_run(cfg, c, s, z_ref_m, 0, max_precision(cfg));
   }
 
-  /// var >= floor  <=>  precision <= 1 / floor (a division only when the cap applies).
+  /// var >= floor  <=>  precision <= 1 / floor: the cap merge_run applies, for pooling.
   static float floored(const Config& cfg, double precision) {
-    return static_cast<float>(precision * cfg.min_variance_m2 > 1.0 ? 1.0 / cfg.min_variance_m2
-                                                                    : precision);
+    return static_cast<float>(std::min(precision, max_precision(cfg)));
   }
 
   /// age(cfg, c, owed), then the information-form merge of sums s (z relative to z_ref_m)
