@@ -57,8 +57,10 @@ constexpr std::array<std::uint64_t, 256> make_set_bit_table() {
 }
 constexpr std::array<std::uint64_t, 256> kSetBits = make_set_bit_table();
 
-__attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int count, int* starts) {
+__attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int count, int* starts,
+                                                          int* run_slot) {
   starts[0] = 0;
+  run_slot[0] = slot[0];
   int runs = 1, i = 1;
   for (; i + 8 <= count; i += 8) {
     const __m256i cur = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot + i));
@@ -71,10 +73,13 @@ __attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int c
         _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetBits[start])));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(starts + runs),
                         _mm256_add_epi32(at, _mm256_set1_epi32(i)));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(run_slot + runs),
+                        _mm256_permutevar8x32_epi32(cur, at));
     runs += _mm_popcnt_u32(start);
   }
   for (; i < count; ++i) {
     starts[runs] = i;
+    run_slot[runs] = slot[i];
     runs += slot[i] != slot[i - 1];
   }
   starts[runs] = count;
@@ -84,25 +89,27 @@ __attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int c
 
 }  // namespace
 
-int find_runs_portable(const int* slot, int count, int* starts) {
+int find_runs_portable(const int* slot, int count, int* starts, int* run_slot) {
   starts[0] = 0;
   if (count <= 0) return 0;
   // Branch-free: every index is written, the count advances only at a run start.
+  run_slot[0] = slot[0];
   int runs = 1;
   for (int i = 1; i < count; ++i) {
     starts[runs] = i;
+    run_slot[runs] = slot[i];
     runs += slot[i] != slot[i - 1];
   }
   starts[runs] = count;
   return runs;
 }
 
-int find_runs(const int* slot, int count, int* starts) {
+int find_runs(const int* slot, int count, int* starts, int* run_slot) {
 #ifdef HAZMAP_HAVE_AVX2_RUNS
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
-  if (avx2 && count > 0) return find_runs_avx2(slot, count, starts);
+  if (avx2 && count > 0) return find_runs_avx2(slot, count, starts, run_slot);
 #endif
-  return find_runs_portable(slot, count, starts);
+  return find_runs_portable(slot, count, starts, run_slot);
 }
 
 HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, const float* z,

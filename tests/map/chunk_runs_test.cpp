@@ -39,8 +39,8 @@ TEST(FindRuns, ListsEveryRunStartBothVersions) {
     const std::vector<int> slot = random_runs(count, 100 + count);
     const std::vector<int> want = scalar_starts(slot, count);
     for (auto* find : {&find_runs, &find_runs_portable}) {
-      std::vector<int> starts(PointChunk::kStride + 8, -5);
-      const int runs = find(slot.data(), count, starts.data());
+      std::vector<int> starts(PointChunk::kStride + 8, -5), run_slot(starts.size(), -5);
+      const int runs = find(slot.data(), count, starts.data(), run_slot.data());
       if (count == 0) {
         EXPECT_EQ(runs, 0);
         continue;
@@ -48,6 +48,8 @@ TEST(FindRuns, ListsEveryRunStartBothVersions) {
       ASSERT_EQ(runs + 1, static_cast<int>(want.size())) << "count " << count;
       for (int r = 0; r <= runs; ++r)
         ASSERT_EQ(starts[r], want[r]) << "count " << count << " run " << r;
+      for (int r = 0; r < runs; ++r)
+        ASSERT_EQ(run_slot[r], slot[want[r]]) << "count " << count << " run " << r;
     }
   }
 }
@@ -55,18 +57,19 @@ TEST(FindRuns, ListsEveryRunStartBothVersions) {
 TEST(FindRuns, OneRunAndAllDifferent) {
   std::vector<int> same(PointChunk::kStride, 3), distinct(PointChunk::kStride);
   for (int i = 0; i < PointChunk::kStride; ++i) distinct[i] = i;
-  std::vector<int> starts(PointChunk::kStride + 8);
-  EXPECT_EQ(find_runs(same.data(), 1000, starts.data()), 1);
+  std::vector<int> starts(PointChunk::kStride + 8), run_slot(starts.size());
+  EXPECT_EQ(find_runs(same.data(), 1000, starts.data(), run_slot.data()), 1);
   EXPECT_EQ(starts[1], 1000);
-  ASSERT_EQ(find_runs(distinct.data(), 1000, starts.data()), 1000);
+  ASSERT_EQ(find_runs(distinct.data(), 1000, starts.data(), run_slot.data()), 1000);
   for (int r = 0; r <= 1000; ++r) ASSERT_EQ(starts[r], r);
+  for (int r = 0; r < 1000; ++r) ASSERT_EQ(run_slot[r], r);
 }
 
 TEST(RunHeightSums, EqualsScalarDoubleSums) {
   const int count = 1000;
   const std::vector<int> slot = random_runs(count, 21);
-  std::vector<int> starts(PointChunk::kStride + 8);
-  const int runs = find_runs(slot.data(), count, starts.data());
+  std::vector<int> starts(PointChunk::kStride + 8), run_slot(starts.size());
+  const int runs = find_runs(slot.data(), count, starts.data(), run_slot.data());
   ASSERT_GT(runs, 17);  // several blocks of eight runs and a partial one
   ASSERT_NE(runs % 8, 0);
   std::mt19937_64 rng(22);

@@ -16,12 +16,13 @@
 namespace hazmap {
 
 /// Start indices of the runs of equal slots in slot[0, count): starts[0] = 0, run r is
-/// [starts[r], starts[r + 1]) and starts[runs] = count. Returns the number of runs.
-/// `starts` holds at least count + 8 entries.
-int find_runs(const int* slot, int count, int* starts);
+/// [starts[r], starts[r + 1]) and starts[runs] = count, and run_slot[r] = slot[starts[r]]
+/// (so that the merge loop reads the runs' slots in order). Returns the number of runs.
+/// `starts` and `run_slot` hold at least count + 8 entries.
+int find_runs(const int* slot, int count, int* starts, int* run_slot);
 
 /// The portable version of find_runs (what it runs where AVX2 is missing), for tests.
-int find_runs_portable(const int* slot, int count, int* starts);
+int find_runs_portable(const int* slot, int count, int* starts, int* run_slot);
 
 /// Weighted height sums of each run, heights relative to the run's first height:
 ///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z[starts[r]])   over run r of `starts`.
@@ -37,11 +38,14 @@ class ChunkRuns {
   /// `height_sums`: also allocate the per-run sums (Kalman).
   explicit ChunkRuns(bool height_sums)
       : starts_(PointChunk::kStride + 8, 0),
+        slots_(PointChunk::kStride + 8, 0),
         sum_w_(height_sums ? PointChunk::kStride + 8 : 0, 0.0f),
         sum_wz_(sum_w_.size(), 0.0f) {}
 
   /// Lists the runs of slot[0, count).
-  void find(const int* slot, int count) { runs_ = find_runs(slot, count, starts_.data()); }
+  void find(const int* slot, int count) {
+    runs_ = find_runs(slot, count, starts_.data(), slots_.data());
+  }
   /// Sums each run's weighted heights about the run's first height.
   void sum_heights(const float* w, const float* z) {
     run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data());
@@ -50,11 +54,16 @@ class ChunkRuns {
   int size() const { return runs_; }
   int begin(int r) const { return starts_[r]; }
   int end(int r) const { return starts_[r + 1]; }
+  int slot(int r) const { return slots_[r]; }  ///< the slot of run r's points
+  const int* slots() const { return slots_.data(); }
+  const int* starts() const { return starts_.data(); }
+  const float* sums_w() const { return sum_w_.data(); }
+  const float* sums_wz() const { return sum_wz_.data(); }
   float sum_w(int r) const { return sum_w_[r]; }
   float sum_wz(int r) const { return sum_wz_[r]; }  ///< relative to the run's first height
 
  private:
-  std::vector<int> starts_;
+  std::vector<int> starts_, slots_;
   int runs_ = 0;
   std::vector<float> sum_w_, sum_wz_;
 };

@@ -242,7 +242,13 @@ class RollingLayer final : public Layer {
 
   /// Whether points in `slot` go into this layer: inside the window (slot >= 0) and, when
   /// pooling, not covered (a covered cell's points are in the finer layer).
-  bool takes(int slot) const { return slot >= 0 && (covered_.empty() || !covered_[slot]); }
+  bool takes(int slot) const {
+    return covered_.empty() ? takes<false>(slot, nullptr) : takes<true>(slot, covered_.data());
+  }
+  template <bool kPooled>
+  static bool takes(int slot, const unsigned char* covered) {
+    return slot >= 0 && !(kPooled && covered[slot]);
+  }
 
   /// Frames of Rule::age a cell last merged in frame `last` still owes in frame `now`:
   /// none on pooled layers (aged every frame), and none if frame numbers went backwards.
@@ -317,30 +323,40 @@ class RollingLayer final : public Layer {
   /// Pass 2 for rules that merge each run straight into its cell: the chunk's runs as
   /// a list (chunk_runs.hpp), then one merge per run.
   std::size_t merge_runs(const PointChunk& chunk) {
-    const int* const slot = slot_buf_.data();
-    runs_.find(slot, chunk.size);
+    runs_.find(slot_buf_.data(), chunk.size);
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);
+    return covered_.empty() ? merge_run_list<false>(chunk) : merge_run_list<true>(chunk);
+  }
+
+  /// The merge loop, compiled apart for pooled layers (whose covered cells take no points
+  /// and which owe no ageing) so that the other loop tests neither.
+  template <bool kPooled>
+  std::size_t merge_run_list(const PointChunk& chunk) {
     // Locals, so that the compiler need not reload members after each store to a cell.
     const typename Rule::Config cfg = config_;
     const double max_precision = Rule::max_precision(cfg);
     typename Rule::Cell* const cells = cells_.data();
     std::uint32_t* const stamps = updated_frame_.data();
+    const unsigned char* const covered = covered_.data();
+    const int* const run_slot = runs_.slots();
+    const int* const starts = runs_.starts();
+    const float* const z = chunk.z;
     const std::uint32_t frame = frame_;
-    const bool pooled = !covered_.empty();
     const int count = runs_.size();
     std::size_t used = 0;
     for (int k = 0; k < count; ++k) {
       // Fine layers are larger than the cache: fetch the cell a few runs ahead early.
-      const int ahead = slot[runs_.begin(std::min(k + kPrefetchRuns, count - 1))];
+      const int ahead = run_slot[std::min(k + kPrefetchRuns, count - 1)];
       if (ahead >= 0) {
         __builtin_prefetch(&cells[ahead], 1);
         __builtin_prefetch(&stamps[ahead], 1);
       }
-      const int first = runs_.begin(k), s = slot[first];
-      if (!takes(s)) continue;
-      used += static_cast<std::size_t>(runs_.end(k) - first);
-      Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), chunk.z[first],
-                      owed_frames(frame, stamps[s], pooled), max_precision);
+      const int s = run_slot[k];
+      if (!takes<kPooled>(s, covered)) continue;
+      const int first = starts[k];
+      used += static_cast<std::size_t>(starts[k + 1] - first);
+      Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), z[first],
+                      owed_frames(frame, stamps[s], kPooled), max_precision);
       stamps[s] = frame;
     }
     return used;
