@@ -56,46 +56,58 @@ HAZMAP_KERNEL void locate_cells(const PointChunk& c, const WindowIndex& w, int* 
 }
 
 #if defined(__GNUC__) && defined(__x86_64__)
-/// The same with AVX2 intrinsics, all in float: floor is one instruction, the bounds test
-/// two compares per axis, and the slot sy N + sx one FMA, exact while N^2 <= 2^24 (the
-/// caller checks). It writes whole vectors: up to count rounded up to 8 (< kStride).
+/// The same with AVX2 intrinsics. The cell index comes from one truncation of f + 1 (f
+/// the position in cells, f + 1 from one FMA): for f >= -1 that is floor(f) + 1, and
+/// everything else (f < -1, NaN, overflow) lands outside the bounds test, which is one
+/// unsigned compare on both axes at once. Wrap and slot are integer lanes (the slot
+/// sy N + sx as one 16-bit multiply-add, so N < 2^15). Most operations here run on any of
+/// three ports instead of the two that do float compares and rounding. It writes whole
+/// vectors: up to count rounded up to 8 (< kStride).
 template <bool kPlane>
 __attribute__((target("avx2,fma"))) void locate_avx2(const PointChunk& c, const WindowIndex& w,
                                                      float gate_var, int* slot, float* cx,
                                                      float* cy) {
-  const __m256 n = _mm256_set1_ps(static_cast<float>(w.size)), zero = _mm256_setzero_ps();
-  const __m256 none = _mm256_set1_ps(-1.0f), half = _mm256_set1_ps(0.5f);
+  const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f);
   const __m256 x0 = _mm256_set1_ps(static_cast<float>(w.x0_m));
   const __m256 y0 = _mm256_set1_ps(static_cast<float>(w.y0_m));
   const __m256 inv_r = _mm256_set1_ps(static_cast<float>(w.inv_resolution));
-  const __m256 wrap_x = _mm256_set1_ps(static_cast<float>(w.wrap_x));
-  const __m256 wrap_y = _mm256_set1_ps(static_cast<float>(w.wrap_y));
   const __m256 gate = _mm256_set1_ps(gate_var);
-  for (int i = 0; i < c.size; i += 8) {
-    const __m256 fx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(c.x + i), x0), inv_r);
-    const __m256 fy = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(c.y + i), y0), inv_r);
-    const __m256 lx = _mm256_floor_ps(fx), ly = _mm256_floor_ps(fy);
-    // Ordered compares: NaN fails them all.
-    __m256 keep = _mm256_and_ps(
-        _mm256_and_ps(_mm256_cmp_ps(lx, zero, _CMP_GE_OQ), _mm256_cmp_ps(lx, n, _CMP_LT_OQ)),
-        _mm256_and_ps(_mm256_cmp_ps(ly, zero, _CMP_GE_OQ), _mm256_cmp_ps(ly, n, _CMP_LT_OQ)));
+  const __m256i ones = _mm256_set1_epi32(1), last = _mm256_set1_epi32(w.size - 1);
+  const __m256i n = _mm256_set1_epi32(w.size);
+  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u));
+  const __m256i last_biased = _mm256_xor_si256(last, sign);
+  const __m256i wrap_x = _mm256_set1_epi32(w.wrap_x), wrap_y = _mm256_set1_epi32(w.wrap_y);
+  const __m256i row = _mm256_set1_epi32(1 | (w.size << 16));  // (sx, sy) -> sx + N sy
+  const float* const px = c.x;
+  const float* const py = c.y;
+  const float* const lateral_var = c.lateral_var;
+  const int count = c.size;
+  for (int i = 0; i < count; i += 8) {
+    const __m256 ax = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_loadu_ps(px + i), x0), inv_r, one);
+    const __m256 ay = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_loadu_ps(py + i), y0), inv_r, one);
+    const __m256i lx1 = _mm256_cvttps_epi32(ax), ly1 = _mm256_cvttps_epi32(ay);
+    const __m256i lx = _mm256_sub_epi32(lx1, ones), ly = _mm256_sub_epi32(ly1, ones);
+    // Outside: max(lx, ly) >= N as unsigned (negative indices are huge), via a signed
+    // compare of the values with their top bit flipped.
+    __m256i out = _mm256_cmpgt_epi32(_mm256_xor_si256(_mm256_max_epu32(lx, ly), sign), last_biased);
     if constexpr (kPlane) {
-      keep =
-          _mm256_and_ps(keep, _mm256_cmp_ps(_mm256_loadu_ps(c.lateral_var + i), gate, _CMP_NGT_UQ));
-      _mm256_storeu_ps(cx + i, _mm256_sub_ps(_mm256_sub_ps(fx, lx), half));
-      _mm256_storeu_ps(cy + i, _mm256_sub_ps(_mm256_sub_ps(fy, ly), half));
+      out = _mm256_or_si256(out, _mm256_castps_si256(_mm256_cmp_ps(
+                                     _mm256_loadu_ps(lateral_var + i), gate, _CMP_GT_OQ)));
+      // f - floor(f) - 1/2 = (f + 1) - (floor(f) + 1) - 1/2
+      _mm256_storeu_ps(cx + i, _mm256_sub_ps(ax, _mm256_add_ps(_mm256_cvtepi32_ps(lx1), half)));
+      _mm256_storeu_ps(cy + i, _mm256_sub_ps(ay, _mm256_add_ps(_mm256_cvtepi32_ps(ly1), half)));
     }
-    __m256 sx = _mm256_add_ps(lx, wrap_x), sy = _mm256_add_ps(ly, wrap_y);
-    sx = _mm256_sub_ps(sx, _mm256_and_ps(_mm256_cmp_ps(sx, n, _CMP_GE_OQ), n));
-    sy = _mm256_sub_ps(sy, _mm256_and_ps(_mm256_cmp_ps(sy, n, _CMP_GE_OQ), n));
-    const __m256 s = _mm256_blendv_ps(none, _mm256_fmadd_ps(sy, n, sx), keep);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(slot + i), _mm256_cvttps_epi32(s));
+    __m256i sx = _mm256_add_epi32(lx, wrap_x), sy = _mm256_add_epi32(ly, wrap_y);
+    sx = _mm256_sub_epi32(sx, _mm256_and_si256(_mm256_cmpgt_epi32(sx, last), n));
+    sy = _mm256_sub_epi32(sy, _mm256_and_si256(_mm256_cmpgt_epi32(sy, last), n));
+    const __m256i s = _mm256_madd_epi16(_mm256_or_si256(sx, _mm256_slli_epi32(sy, 16)), row);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(slot + i), _mm256_or_si256(s, out));
   }
 }
 
 bool use_avx2(const WindowIndex& w) {
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return avx2 && w.size <= 4096;
+  return avx2 && w.size < (1 << 15);
 }
 #else
 template <bool kPlane>

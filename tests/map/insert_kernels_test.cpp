@@ -33,11 +33,12 @@ struct ChunkArrays {
 
 TEST(LocatePoints, MatchesScalarFloorAndModulo) {
   std::mt19937_64 rng(5);
-  // Both versions; N = 5000 takes the portable one in locate_points too (N^2 > 2^24).
+  // Both versions; N = 40000 takes the portable one in locate_points too (N >= 2^15).
   for (const auto locate : {&locate_points, &locate_points_portable})
     for (const auto& [n, r, robot_x, robot_y] :
          {std::tuple{250, 0.04, 3.3, -7.9}, std::tuple{1000, 0.01, -123.45, 56.78},
-          std::tuple{16, 0.64, 0.0, 0.0}, std::tuple{5000, 0.002, 0.7, 1.1}}) {
+          std::tuple{16, 0.64, 0.0, 0.0}, std::tuple{5000, 0.002, 0.7, 1.1},
+          std::tuple{40000, 0.001, -2.5, 9.0}}) {
       RollingGrid grid(n, r);
       grid.move_to(robot_x, robot_y);
       grid.move_to(robot_x + 0.37 * n * r, robot_y - 0.21 * n * r);  // wrapped ring

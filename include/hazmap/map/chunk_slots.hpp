@@ -3,8 +3,7 @@
 // ring buffer and its cell-centred position. Straight-line arithmetic in SIMD lanes: one
 // multiply per axis (no division by the resolution), a floor, a bounds test and a
 // conditional subtract for the ring wrap (no modulo, no table, no branch). Written with
-// AVX2 intrinsics in float where the CPU has AVX2, else as plain loops the compiler
-// vectorises.
+// AVX2 intrinsics where the CPU has AVX2, else as plain loops the compiler vectorises.
 
 #include "hazmap/map/point_chunk.hpp"
 
@@ -21,12 +20,12 @@ struct WindowIndex {
 /// Fills slot[i] for the chunk's points: -1 when outside the window. With cx and cy (plane
 /// rules) also the cell-centred position in cell units, and -1 for points whose
 /// lateral_var exceeds gate_var. The output arrays hold at least chunk.size entries.
-/// Where the CPU has AVX2 and N <= 4096, in float lanes with intrinsics; the output
-/// arrays then hold chunk.size rounded up to 8 entries.
+/// Where the CPU has AVX2 and N < 2^15, with intrinsics (integer index lanes); the
+/// output arrays then hold chunk.size rounded up to 8 entries.
 void locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var, int* slot,
                    float* cx, float* cy);
 
-/// The version locate_points runs without AVX2 or for N > 4096, for tests.
+/// The version locate_points runs without AVX2 or for N >= 2^15, for tests.
 void locate_points_portable(const PointChunk& chunk, const WindowIndex& window, float gate_var,
                             int* slot, float* cx, float* cy);
 
