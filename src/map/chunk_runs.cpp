@@ -113,7 +113,7 @@ int find_runs(const int* slot, int count, int* starts, int* run_slot) {
 }
 
 HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, const float* z,
-                                   float* sum_w, float* sum_wz) {
+                                   float* sum_w, float* sum_wz, float* first_z) {
   const Mask8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
   // Eight runs at a time: each run's lanes are summed in one vector per quantity, then
   // the eight vectors are reduced together by a tree of pairwise adds (one result lane per
@@ -125,6 +125,7 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
       const bool valid = r < runs;
       const int b = valid ? starts[r] : 0, n = valid ? starts[r + 1] - b : 0;
       const float zb = z[b];
+      first_z[r] = zb;
       Vec8 aw{}, awz{};
       // Two vectors unconditionally (runs on a 1 cm layer are mostly 4 to 16 points
       // long), then more only for longer runs: no branch on a run's length below 17.

@@ -82,7 +82,9 @@ TEST(RunHeightSums, EqualsScalarDoubleSums) {
     w[i] = float(wd(rng));
   }
   std::vector<float> sum_w(PointChunk::kStride + 8, -1), sum_wz(PointChunk::kStride + 8, -1);
-  run_height_sums(starts.data(), runs, w.data(), z.data(), sum_w.data(), sum_wz.data());
+  std::vector<float> first_z(PointChunk::kStride + 8, -1);
+  run_height_sums(starts.data(), runs, w.data(), z.data(), sum_w.data(), sum_wz.data(),
+                  first_z.data());
   int longest = 0;
   for (int r = 0; r < runs; ++r) {
     const double zb = z[starts[r]];
@@ -92,6 +94,7 @@ TEST(RunHeightSums, EqualsScalarDoubleSums) {
       WZ += double(w[k]) * (double(z[k]) - zb);
     }
     longest = std::max(longest, starts[r + 1] - starts[r]);
+    ASSERT_EQ(first_z[r], z[starts[r]]) << "run " << r;
     ASSERT_NEAR(sum_w[r], W, 1e-6 * W) << "run " << r;
     // The mean about the run's first height, in metres (float lanes keep ~1e-10 m).
     ASSERT_NEAR(double(sum_wz[r]) / sum_w[r], WZ / W, 1e-8) << "run " << r;

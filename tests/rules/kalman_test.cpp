@@ -90,10 +90,16 @@ TEST(KalmanRule, MergeRunEqualsAgeingThenMerge) {
       ASSERT_NEAR(fused.precision, floored, 1e-6 * floored) << trial;
     }
   }
-  // A run of weight zero changes nothing.
+  // A run of weight zero leaves a cleared cell cleared, and only ages a known one (its
+  // cell is stamped with the frame, so the owed ageing must not be lost).
+  const KalmanRule::Config cfg{1e-4, 0.0};
   KalmanRule::Cell c;
-  KalmanRule::merge_run({}, c, KalmanRule::Sums{}, 1.0, 0, 1e6);
+  KalmanRule::merge_run(cfg, c, KalmanRule::Sums{}, 1.0, 3, 1e6);
   EXPECT_FALSE(KalmanRule::known(c));
+  KalmanRule::update(cfg, c, 0.25, 1e-4);
+  KalmanRule::merge_run(cfg, c, KalmanRule::Sums{}, 1.0, 3, 1e6);
+  EXPECT_NEAR(KalmanRule::mean(c), 0.25, 1e-12);
+  EXPECT_NEAR(KalmanRule::variance(c), 1e-4 + 3 * 1e-4, 1e-10);
 }
 
 TEST(BananasRule, KeepsTheLastHeight) {

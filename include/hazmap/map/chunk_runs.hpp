@@ -25,12 +25,13 @@ int find_runs(const int* slot, int count, int* starts, int* run_slot);
 int find_runs_portable(const int* slot, int count, int* starts, int* run_slot);
 
 /// Weighted height sums of each run, heights relative to the run's first height:
-///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z[starts[r]])   over run r of `starts`.
+///   sum_w[r] = sum w,  sum_wz[r] = sum w (z - z[starts[r]])   over run r of `starts`,
+/// and first_z[r] = z[starts[r]].
 /// Float lanes: about the run's first height they keep ~1e-10 m of the run's mean.
 /// `w` and `z` must be readable up to count + 15 (PointChunk::kPad); sum_w and sum_wz
-/// hold runs + 8 entries (results are stored as whole vectors of eight).
+/// hold runs + 8 entries (results are stored as whole vectors of eight), first_z runs + 8.
 void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
-                     float* sum_wz);
+                     float* sum_wz, float* first_z);
 
 /// A chunk's runs in one layer, with the buffers sized once (PointChunk::kCapacity).
 class ChunkRuns {
@@ -40,7 +41,8 @@ class ChunkRuns {
       : starts_(PointChunk::kStride + 8, 0),
         slots_(PointChunk::kStride + 8, 0),
         sum_w_(height_sums ? PointChunk::kStride + 8 : 0, 0.0f),
-        sum_wz_(sum_w_.size(), 0.0f) {}
+        sum_wz_(sum_w_.size(), 0.0f),
+        first_z_(sum_w_.size(), 0.0f) {}
 
   /// Lists the runs of slot[0, count).
   void find(const int* slot, int count) {
@@ -48,7 +50,7 @@ class ChunkRuns {
   }
   /// Sums each run's weighted heights about the run's first height.
   void sum_heights(const float* w, const float* z) {
-    run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data());
+    run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data(), first_z_.data());
   }
 
   int size() const { return runs_; }
@@ -59,13 +61,15 @@ class ChunkRuns {
   const int* starts() const { return starts_.data(); }
   const float* sums_w() const { return sum_w_.data(); }
   const float* sums_wz() const { return sum_wz_.data(); }
+  const float* first_zs() const { return first_z_.data(); }
   float sum_w(int r) const { return sum_w_[r]; }
   float sum_wz(int r) const { return sum_wz_[r]; }  ///< relative to the run's first height
+  float first_z(int r) const { return first_z_[r]; }
 
  private:
   std::vector<int> starts_, slots_;
   int runs_ = 0;
-  std::vector<float> sum_w_, sum_wz_;
+  std::vector<float> sum_w_, sum_wz_, first_z_;
 };
 
 }  // namespace hazmap

@@ -42,7 +42,7 @@ class RollingLayer final : public Layer {
         inv_resolution_(1.0 / resolution_m),
         gate_var_(gate_std_m > 0 ? static_cast<float>(gate_std_m * gate_std_m)
                                  : std::numeric_limits<float>::infinity()),
-        cells_(cell_count()),
+        cells_(cell_count() + 1),  // a spare cell past the end: see KalmanRule::merge_chunk_runs
         accumulators_(Rule::kMergePerRun ? 0 : cell_count()),
         updated_frame_(cell_count(), 0),
         frame_index_(Rule::kMergePerRun ? 0 : cell_count(), 0),
@@ -152,8 +152,8 @@ class RollingLayer final : public Layer {
 
   void rebuild_covered(PoolGrid& pool) override {
     if (covered_.empty()) return;
-    if (pool.cells.size() != cells_.size()) pool.cells.assign(cells_.size(), Moments{});
-    for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
+    if (pool.cells.size() != cell_count()) pool.cells.assign(cell_count(), Moments{});
+    for (std::size_t slot = 0; slot < cell_count(); ++slot) {
       if (!covered_[slot]) continue;
       Moments m = Rule::to_moments(prior_[slot]);
       m.merge(pool.cells[slot]);
@@ -325,6 +325,10 @@ class RollingLayer final : public Layer {
   std::size_t merge_runs(const PointChunk& chunk) {
     runs_.find(slot_buf_.data(), chunk.size);
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);
+    if constexpr (Rule::kMergesChunks) {
+      if (covered_.empty())
+        return Rule::merge_chunk_runs(config_, cells_.data(), updated_frame_.data(), frame_, runs_);
+    }
     return covered_.empty() ? merge_run_list<false>(chunk) : merge_run_list<true>(chunk);
   }
 
@@ -407,7 +411,7 @@ class RollingLayer final : public Layer {
   double inv_resolution_;
   float gate_var_;
   std::uint32_t frame_ = 0;
-  std::vector<typename Rule::Cell> cells_;
+  std::vector<typename Rule::Cell> cells_;  ///< cell_count() cells and a spare
   std::vector<Accumulator> accumulators_;
   std::vector<std::uint32_t> updated_frame_;
   std::vector<int> frame_index_;  ///< slot -> its accumulator this frame (see accumulate_runs)

@@ -18,6 +18,7 @@ struct BananasRule {
   /// The last point wins whatever the grouping.
   static constexpr bool kMergePerRun = true;
   static constexpr bool kUsesHeightSums = false;
+  static constexpr bool kMergesChunks = false;
 
   struct Config {};
   struct Cell {

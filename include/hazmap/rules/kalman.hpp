@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -35,6 +36,8 @@ struct KalmanRule {
   static constexpr bool kMergePerRun = true;
   /// A run's sums come from ChunkRuns::sum_heights (chunk_runs.hpp).
   static constexpr bool kUsesHeightSums = true;
+  /// Plain layers hand a chunk's whole run list to merge_chunk_runs.
+  static constexpr bool kMergesChunks = true;
 
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
@@ -90,7 +93,10 @@ struct KalmanRule {
   /// case of its own: D = 1 and mean' = WZ / W.
   static void merge_run(const Config& cfg, Cell& c, const Sums& s, double z_ref_m,
                         std::uint32_t owed, double max_precision) {
-    if (!(s.w > 0)) return;
+    if (!(s.w > 0)) {  // nothing to merge; the caller stamps the cell, so age it now
+      age(cfg, c, owed);
+      return;
+    }
     const double p = c.precision, off = c.mean_m.value() - z_ref_m;
     const double d = 1.0 + double(owed) * cfg.time_inflation_m2 * p;
     const double a = p + d * s.w;
@@ -98,6 +104,25 @@ struct KalmanRule {
     c.mean_m.set(z_ref_m + (p * off + d * s.wz) * d * r);
     c.precision = static_cast<float>(std::min(a * a * r, max_precision));
   }
+  /// A chunk's runs merged into a plain (unpooled) layer, eight at a time in SIMD lanes
+  /// (src/map/kalman_runs.cpp). A run's merge is a chain of dependent steps around a
+  /// division (load the cell, age, merge, cap, split, store); merged one after another,
+  /// only a few runs' chains overlap in the core. Here eight runs share one chain: their
+  /// cells are gathered, merged in float lanes and stored back one by one. A batch whose
+  /// runs do not all fall in distinct cells inside the window (two runs of one cell would
+  /// read it before the first merge lands) is merged run by run with merge_run, as is the
+  /// chunk's last partial batch. Runs outside the window (slot < 0) are skipped; merged
+  /// cells are stamped with `frame`. Returns the number of points merged. Equal to
+  /// merge_run run after run to float rounding: the new mean is stored as the run's first
+  /// height plus a float offset.
+  /// `cells` holds one spare cell past the last slot (16-byte loads of 12-byte cells).
+  static std::size_t merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t* stamps,
+                                      std::uint32_t frame, const ChunkRuns& runs);
+  /// merge_run run after run from run `first` on (what merge_chunk_runs does without AVX2).
+  static std::size_t merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
+                                             std::uint32_t* stamps, std::uint32_t frame,
+                                             const ChunkRuns& runs, int first = 0);
+
   /// The precision cap merge_run takes: 1 / min_variance (infinite without a floor).
   static double max_precision(const Config& cfg) {
     return cfg.min_variance_m2 > 0 ? 1.0 / cfg.min_variance_m2

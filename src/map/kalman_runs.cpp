@@ -1,0 +1,197 @@
+#include "hazmap/rules/kalman.hpp"
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define HAZMAP_HAVE_AVX2_KALMAN 1
+#endif
+
+namespace hazmap {
+
+namespace {
+KalmanRule::Sums sums_of(const ChunkRuns& runs, int k) {
+  KalmanRule::Sums s;
+  s.w = runs.sum_w(k);
+  s.wz = runs.sum_wz(k);
+  return s;
+}
+}  // namespace
+
+std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
+                                                std::uint32_t* stamps, std::uint32_t frame,
+                                                const ChunkRuns& runs, int first) {
+  const double max_precision = KalmanRule::max_precision(cfg);
+  std::size_t used = 0;
+  for (int k = first; k < runs.size(); ++k) {
+    const int s = runs.slot(k);
+    if (s < 0) continue;
+    used += static_cast<std::size_t>(runs.end(k) - runs.begin(k));
+    const std::uint32_t owed = frame > stamps[s] ? frame - stamps[s] : 0;
+    KalmanRule::merge_run(cfg, cells[s], sums_of(runs, k), runs.first_z(k), owed, max_precision);
+    stamps[s] = frame;
+  }
+  return used;
+}
+
+#ifdef HAZMAP_HAVE_AVX2_KALMAN
+namespace {
+
+static_assert(sizeof(KalmanRule::Cell) == 3 * sizeof(float), "cell = ref, off, precision");
+
+/// KalmanRule::merge_run on four lanes of doubles (same steps, same order).
+[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) void merge4(
+    __m256d ref, __m256d off, __m256d p, __m256d z_ref, __m256d w, __m256d wz, __m256d owed,
+    __m256d q, __m256d cap, __m128& new_ref, __m128& new_off, __m128& new_p) {
+  const __m256d one = _mm256_set1_pd(1.0);
+  const __m256d offset = _mm256_sub_pd(_mm256_add_pd(ref, off), z_ref);
+  const __m256d d = _mm256_add_pd(one, _mm256_mul_pd(_mm256_mul_pd(owed, q), p));
+  const __m256d a = _mm256_add_pd(p, _mm256_mul_pd(d, w));
+  const __m256d r = _mm256_div_pd(one, _mm256_mul_pd(d, a));
+  const __m256d mean = _mm256_add_pd(
+      z_ref, _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(p, offset),
+                                                       _mm256_mul_pd(d, wz)),
+                                         d),
+                           r));
+  // SplitHeight::set: the float nearest the mean, then the float nearest the rest.
+  new_ref = _mm256_cvtpd_ps(mean);
+  new_off = _mm256_cvtpd_ps(_mm256_sub_pd(mean, _mm256_cvtps_pd(new_ref)));
+  new_p = _mm256_cvtpd_ps(_mm256_min_pd(_mm256_mul_pd(_mm256_mul_pd(a, a), r), cap));
+}
+
+[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) __m256d lo(__m256 v) {
+  return _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+}
+[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) __m256d hi(__m256 v) {
+  return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
+}
+
+/// merge4 on eight float lanes: both halves in double.
+[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) void merge_lanes(
+    __m256 ref, __m256 off, __m256 p, __m256 z_ref, __m256 w, __m256 wz, __m256 owed, __m256d q,
+    __m256d cap, __m256& new_ref, __m256& new_off, __m256& new_p) {
+  __m128 r0, o0, p0, r1, o1, p1;
+  merge4(lo(ref), lo(off), lo(p), lo(z_ref), lo(w), lo(wz), lo(owed), q, cap, r0, o0, p0);
+  merge4(hi(ref), hi(off), hi(p), hi(z_ref), hi(w), hi(wz), hi(owed), q, cap, r1, o1, p1);
+  new_ref = _mm256_set_m128(r1, r0);
+  new_off = _mm256_set_m128(o1, o0);
+  new_p = _mm256_set_m128(p1, p0);
+}
+
+__attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Config& cfg,
+                                                           KalmanRule::Cell* cells,
+                                                           std::uint32_t* stamps,
+                                                           std::uint32_t frame,
+                                                           const ChunkRuns& runs) {
+  constexpr int kAhead = 8;  // prefetch the next batch's cells
+  const int count = runs.size();
+  const int* const slots = runs.slots();
+  const int* const starts = runs.starts();
+  const float* const sum_w = runs.sums_w();
+  const float* const sum_wz = runs.sums_wz();
+  const float* const first_z = runs.first_zs();
+  float* const fields = reinterpret_cast<float*>(cells);  // cell s: ref, off, precision at 3 s
+  const __m256d q = _mm256_set1_pd(cfg.time_inflation_m2);
+  const __m256d cap = _mm256_set1_pd(KalmanRule::max_precision(cfg));
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i now = _mm256_set1_epi32(static_cast<int>(frame));
+  // Lane rotations by 1 to 4: comparing a vector with them compares every pair of lanes.
+  const __m256i rot1 = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 0);
+  const __m256i rot2 = _mm256_setr_epi32(2, 3, 4, 5, 6, 7, 0, 1);
+  const __m256i rot3 = _mm256_setr_epi32(3, 4, 5, 6, 7, 0, 1, 2);
+  const __m256i rot4 = _mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3);
+  __m256i used = _mm256_setzero_si256();
+  std::size_t used_scalar = 0;
+  int k = 0;
+  for (; k + 8 <= count; k += 8) {
+    if (k + 8 + kAhead <= count)
+      for (int j = 0; j < kAhead; ++j) {
+        const int ahead = slots[k + 8 + j];
+        if (ahead >= 0) {
+          __builtin_prefetch(&cells[ahead], 1);
+          __builtin_prefetch(&stamps[ahead], 1);
+        }
+      }
+    const __m256i s = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slots + k));
+    const __m256i clash = _mm256_or_si256(
+        _mm256_or_si256(_mm256_cmpeq_epi32(s, _mm256_permutevar8x32_epi32(s, rot1)),
+                        _mm256_cmpeq_epi32(s, _mm256_permutevar8x32_epi32(s, rot2))),
+        _mm256_or_si256(_mm256_cmpeq_epi32(s, _mm256_permutevar8x32_epi32(s, rot3)),
+                        _mm256_cmpeq_epi32(s, _mm256_permutevar8x32_epi32(s, rot4))));
+    const __m256i bad = _mm256_or_si256(clash, _mm256_cmpgt_epi32(_mm256_setzero_si256(), s));
+    if (!_mm256_testz_si256(bad, bad)) {
+      for (int j = 0; j < 8; ++j) {
+        const int sj = slots[k + j];
+        if (sj < 0) continue;
+        used_scalar += static_cast<std::size_t>(starts[k + j + 1] - starts[k + j]);
+        const std::uint32_t owed = frame > stamps[sj] ? frame - stamps[sj] : 0;
+        KalmanRule::merge_run(cfg, cells[sj], sums_of(runs, k + j), first_z[k + j], owed,
+                              KalmanRule::max_precision(cfg));
+        stamps[sj] = frame;
+      }
+      continue;
+    }
+    // The eight cells, 16 bytes each (ref, off, precision and the next cell's ref, which
+    // is dropped; the layer keeps a spare cell at the end), transposed into lanes. No
+    // gather instructions: they are slow on the CPUs with the gather data sampling fix.
+    alignas(32) int slot[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(slot), s);
+    const auto row = [&](int j) { return _mm_loadu_ps(fields + 3 * slot[j]); };
+    const __m256 c04 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(0)), row(4), 1);
+    const __m256 c15 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(1)), row(5), 1);
+    const __m256 c26 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(2)), row(6), 1);
+    const __m256 c37 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(3)), row(7), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(c04, c15), t1 = _mm256_unpackhi_ps(c04, c15);
+    const __m256 t2 = _mm256_unpacklo_ps(c26, c37), t3 = _mm256_unpackhi_ps(c26, c37);
+    const __m256 ref = _mm256_shuffle_ps(t0, t2, 0x44);  // lanes 0, 1 of each
+    const __m256 off = _mm256_shuffle_ps(t0, t2, 0xEE);  // lanes 2, 3 of each
+    const __m256 p = _mm256_shuffle_ps(t1, t3, 0x44);
+    const __m256i stamp = _mm256_setr_epi32(
+        static_cast<int>(stamps[slot[0]]), static_cast<int>(stamps[slot[1]]),
+        static_cast<int>(stamps[slot[2]]), static_cast<int>(stamps[slot[3]]),
+        static_cast<int>(stamps[slot[4]]), static_cast<int>(stamps[slot[5]]),
+        static_cast<int>(stamps[slot[6]]), static_cast<int>(stamps[slot[7]]));
+    const __m256i begin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(starts + k));
+    const __m256i end = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(starts + k + 1));
+    used = _mm256_add_epi32(used, _mm256_sub_epi32(end, begin));
+    const __m256 z_ref = _mm256_loadu_ps(first_z + k);
+    const __m256 w = _mm256_loadu_ps(sum_w + k), wz = _mm256_loadu_ps(sum_wz + k);
+    // Frames owed: now - stamp, or 0 if the stamp is ahead (unsigned).
+    const __m256 owed = _mm256_cvtepi32_ps(_mm256_sub_epi32(now, _mm256_min_epu32(stamp, now)));
+    // A run without weight on a cleared cell leaves it cleared (the formula is 0 / 0).
+    const __m256 empty = _mm256_andnot_ps(_mm256_cmp_ps(w, zero, _CMP_GT_OQ),
+                                          _mm256_cmp_ps(p, zero, _CMP_EQ_OQ));
+    __m256 new_ref_v, new_off_v, new_p_v;
+    merge_lanes(ref, off, p, z_ref, w, wz, owed, q, cap, new_ref_v, new_off_v, new_p_v);
+    new_ref_v = _mm256_blendv_ps(new_ref_v, ref, empty);
+    new_off_v = _mm256_blendv_ps(new_off_v, off, empty);
+    new_p_v = _mm256_blendv_ps(new_p_v, p, empty);
+    alignas(32) float new_off[8], new_p[8], new_ref[8];
+    _mm256_store_ps(new_ref, new_ref_v);
+    _mm256_store_ps(new_off, new_off_v);
+    _mm256_store_ps(new_p, new_p_v);
+    for (int j = 0; j < 8; ++j) {
+      KalmanRule::Cell& c = cells[slot[j]];
+      c.mean_m.ref_m = new_ref[j];
+      c.mean_m.off_m = new_off[j];
+      c.precision = new_p[j];
+      stamps[slot[j]] = frame;
+    }
+  }
+  alignas(32) int lanes[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), used);
+  for (int j = 0; j < 8; ++j) used_scalar += static_cast<std::size_t>(lanes[j]);
+  return used_scalar + KalmanRule::merge_chunk_runs_scalar(cfg, cells, stamps, frame, runs, k);
+}
+
+}  // namespace
+#endif
+
+std::size_t KalmanRule::merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t* stamps,
+                                         std::uint32_t frame, const ChunkRuns& runs) {
+#ifdef HAZMAP_HAVE_AVX2_KALMAN
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (avx2) return merge_avx2(cfg, cells, stamps, frame, runs);
+#endif
+  return merge_chunk_runs_scalar(cfg, cells, stamps, frame, runs);
+}
+
+}  // namespace hazmap
