@@ -120,17 +120,30 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
   // run), which costs a few shuffles per run instead of a horizontal sum each.
   for (int r0 = 0; r0 < runs; r0 += 8) {
     Vec8 acc_w[8], acc_wz[8];
+#pragma GCC unroll 8
     for (int j = 0; j < 8; ++j) {
       const int r = r0 + j;
       const bool valid = r < runs;
       const int b = valid ? starts[r] : 0, n = valid ? starts[r + 1] - b : 0;
       const float zb = z[b];
       first_z[r] = zb;
-      Vec8 aw{}, awz{};
-      // Two vectors unconditionally (runs on a 1 cm layer are mostly 4 to 16 points
-      // long), then more only for longer runs: no branch on a run's length below 17.
-      for (int k = 0; k < n || k < 16; k += 8) {
-        const Mask8 live = (lane + k) < n;
+      // Two vectors in straight-line code (runs on a 1 cm layer are mostly 1 to 16 points
+      // long), then a loop only for longer runs: no branch on a run's length below 17.
+      const Mask8 len = {n, n, n, n, n, n, n, n};
+      Vec8 pw0, pz0, pw1, pz1;
+      load8(w + b, pw0);
+      load8(z + b, pz0);
+      load8(w + b + 8, pw1);
+      load8(z + b + 8, pz1);
+      pz0 -= zb;
+      pz1 -= zb;
+      keep8(pw0, lane < len);
+      keep8(pz0, lane < len);
+      keep8(pw1, lane + 8 < len);
+      keep8(pz1, lane + 8 < len);
+      Vec8 aw = pw0 + pw1, awz = pw0 * pz0 + pw1 * pz1;
+      for (int k = 16; k < n; k += 8) {
+        const Mask8 live = (lane + k) < len;
         Vec8 pw, pz;
         load8(w + b + k, pw);
         load8(z + b + k, pz);
