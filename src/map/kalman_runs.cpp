@@ -17,17 +17,17 @@ KalmanRule::Sums sums_of(const ChunkRuns& runs, int k) {
 }  // namespace
 
 std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
-                                                std::uint32_t* stamps, std::uint32_t frame,
-                                                const ChunkRuns& runs, int first) {
+                                                std::uint32_t frame, const ChunkRuns& runs,
+                                                int first) {
   const double max_precision = KalmanRule::max_precision(cfg);
   std::size_t used = 0;
   for (int k = first; k < runs.size(); ++k) {
     const int s = runs.slot(k);
     if (s < 0) continue;
     used += static_cast<std::size_t>(runs.end(k) - runs.begin(k));
-    const std::uint32_t owed = frame > stamps[s] ? frame - stamps[s] : 0;
+    const std::uint32_t owed = frame > cells[s].stamp ? frame - cells[s].stamp : 0;
     KalmanRule::merge_run(cfg, cells[s], sums_of(runs, k), runs.first_z(k), owed, max_precision);
-    stamps[s] = frame;
+    cells[s].stamp = frame;
   }
   return used;
 }
@@ -35,7 +35,7 @@ std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
 #ifdef HAZMAP_HAVE_AVX2_KALMAN
 namespace {
 
-static_assert(sizeof(KalmanRule::Cell) == 3 * sizeof(float), "cell = ref, off, precision");
+static_assert(sizeof(KalmanRule::Cell) == 16, "cell = ref, off, precision, stamp");
 
 /// KalmanRule::merge_run on four lanes of doubles (same steps, same order).
 [[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) void merge4(
@@ -78,7 +78,6 @@ static_assert(sizeof(KalmanRule::Cell) == 3 * sizeof(float), "cell = ref, off, p
 
 __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Config& cfg,
                                                            KalmanRule::Cell* cells,
-                                                           std::uint32_t* stamps,
                                                            std::uint32_t frame,
                                                            const ChunkRuns& runs) {
   constexpr int kAhead = 8;  // prefetch the next batch's cells
@@ -88,7 +87,7 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
   const float* const sum_w = runs.sums_w();
   const float* const sum_wz = runs.sums_wz();
   const float* const first_z = runs.first_zs();
-  float* const fields = reinterpret_cast<float*>(cells);  // cell s: ref, off, precision at 3 s
+  float* const fields = reinterpret_cast<float*>(cells);  // cell s: 4 lanes at 4 s
   const __m256d q = _mm256_set1_pd(cfg.time_inflation_m2);
   const __m256d cap = _mm256_set1_pd(KalmanRule::max_precision(cfg));
   const __m256 zero = _mm256_setzero_ps();
@@ -105,10 +104,7 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
     if (k + 8 + kAhead <= count)
       for (int j = 0; j < kAhead; ++j) {
         const int ahead = slots[k + 8 + j];
-        if (ahead >= 0) {
-          __builtin_prefetch(&cells[ahead], 1);
-          __builtin_prefetch(&stamps[ahead], 1);
-        }
+        if (ahead >= 0) __builtin_prefetch(&cells[ahead], 1);
       }
     const __m256i s = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slots + k));
     const __m256i clash = _mm256_or_si256(
@@ -122,19 +118,18 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
         const int sj = slots[k + j];
         if (sj < 0) continue;
         used_scalar += static_cast<std::size_t>(starts[k + j + 1] - starts[k + j]);
-        const std::uint32_t owed = frame > stamps[sj] ? frame - stamps[sj] : 0;
+        const std::uint32_t owed = frame > cells[sj].stamp ? frame - cells[sj].stamp : 0;
         KalmanRule::merge_run(cfg, cells[sj], sums_of(runs, k + j), first_z[k + j], owed,
                               KalmanRule::max_precision(cfg));
-        stamps[sj] = frame;
+        cells[sj].stamp = frame;
       }
       continue;
     }
-    // The eight cells, 16 bytes each (ref, off, precision and the next cell's ref, which
-    // is dropped; the layer keeps a spare cell at the end), transposed into lanes. No
-    // gather instructions: they are slow on the CPUs with the gather data sampling fix.
+    // The eight cells (16 bytes: ref, off, precision, stamp) transposed into lanes. No
+    // gather instructions: they are slow on CPUs with the gather data sampling fix.
     alignas(32) int slot[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(slot), s);
-    const auto row = [&](int j) { return _mm_loadu_ps(fields + 3 * slot[j]); };
+    const auto row = [&](int j) { return _mm_loadu_ps(fields + 4 * slot[j]); };
     const __m256 c04 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(0)), row(4), 1);
     const __m256 c15 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(1)), row(5), 1);
     const __m256 c26 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(2)), row(6), 1);
@@ -144,11 +139,7 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
     const __m256 ref = _mm256_shuffle_ps(t0, t2, 0x44);  // lanes 0, 1 of each
     const __m256 off = _mm256_shuffle_ps(t0, t2, 0xEE);  // lanes 2, 3 of each
     const __m256 p = _mm256_shuffle_ps(t1, t3, 0x44);
-    const __m256i stamp = _mm256_setr_epi32(
-        static_cast<int>(stamps[slot[0]]), static_cast<int>(stamps[slot[1]]),
-        static_cast<int>(stamps[slot[2]]), static_cast<int>(stamps[slot[3]]),
-        static_cast<int>(stamps[slot[4]]), static_cast<int>(stamps[slot[5]]),
-        static_cast<int>(stamps[slot[6]]), static_cast<int>(stamps[slot[7]]));
+    const __m256i stamp = _mm256_castps_si256(_mm256_shuffle_ps(t1, t3, 0xEE));
     const __m256i begin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(starts + k));
     const __m256i end = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(starts + k + 1));
     used = _mm256_add_epi32(used, _mm256_sub_epi32(end, begin));
@@ -164,34 +155,39 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
     new_ref_v = _mm256_blendv_ps(new_ref_v, ref, empty);
     new_off_v = _mm256_blendv_ps(new_off_v, off, empty);
     new_p_v = _mm256_blendv_ps(new_p_v, p, empty);
-    alignas(32) float new_off[8], new_p[8], new_ref[8];
-    _mm256_store_ps(new_ref, new_ref_v);
-    _mm256_store_ps(new_off, new_off_v);
-    _mm256_store_ps(new_p, new_p_v);
-    for (int j = 0; j < 8; ++j) {
-      KalmanRule::Cell& c = cells[slot[j]];
-      c.mean_m.ref_m = new_ref[j];
-      c.mean_m.off_m = new_off[j];
-      c.precision = new_p[j];
-      stamps[slot[j]] = frame;
-    }
+    // Back to rows (the stamp lane now the frame), one 16-byte store per cell.
+    const __m256 frame_v = _mm256_castsi256_ps(now);
+    const __m256 u0 = _mm256_unpacklo_ps(new_ref_v, new_off_v);  // r0 o0 r1 o1 | r4 o4 r5 o5
+    const __m256 u1 = _mm256_unpackhi_ps(new_ref_v, new_off_v);  // r2 o2 r3 o3 | r6 o6 r7 o7
+    const __m256 u2 = _mm256_unpacklo_ps(new_p_v, frame_v);
+    const __m256 u3 = _mm256_unpackhi_ps(new_p_v, frame_v);
+    const __m256 rows04 = _mm256_shuffle_ps(u0, u2, 0x44), rows15 = _mm256_shuffle_ps(u0, u2, 0xEE);
+    const __m256 rows26 = _mm256_shuffle_ps(u1, u3, 0x44), rows37 = _mm256_shuffle_ps(u1, u3, 0xEE);
+    _mm_storeu_ps(fields + 4 * slot[0], _mm256_castps256_ps128(rows04));
+    _mm_storeu_ps(fields + 4 * slot[1], _mm256_castps256_ps128(rows15));
+    _mm_storeu_ps(fields + 4 * slot[2], _mm256_castps256_ps128(rows26));
+    _mm_storeu_ps(fields + 4 * slot[3], _mm256_castps256_ps128(rows37));
+    _mm_storeu_ps(fields + 4 * slot[4], _mm256_extractf128_ps(rows04, 1));
+    _mm_storeu_ps(fields + 4 * slot[5], _mm256_extractf128_ps(rows15, 1));
+    _mm_storeu_ps(fields + 4 * slot[6], _mm256_extractf128_ps(rows26, 1));
+    _mm_storeu_ps(fields + 4 * slot[7], _mm256_extractf128_ps(rows37, 1));
   }
   alignas(32) int lanes[8];
   _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), used);
   for (int j = 0; j < 8; ++j) used_scalar += static_cast<std::size_t>(lanes[j]);
-  return used_scalar + KalmanRule::merge_chunk_runs_scalar(cfg, cells, stamps, frame, runs, k);
+  return used_scalar + KalmanRule::merge_chunk_runs_scalar(cfg, cells, frame, runs, k);
 }
 
 }  // namespace
 #endif
 
-std::size_t KalmanRule::merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t* stamps,
-                                         std::uint32_t frame, const ChunkRuns& runs) {
+std::size_t KalmanRule::merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t frame,
+                                         const ChunkRuns& runs) {
 #ifdef HAZMAP_HAVE_AVX2_KALMAN
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (avx2) return merge_avx2(cfg, cells, stamps, frame, runs);
+  if (avx2) return merge_avx2(cfg, cells, frame, runs);
 #endif
-  return merge_chunk_runs_scalar(cfg, cells, stamps, frame, runs);
+  return merge_chunk_runs_scalar(cfg, cells, frame, runs);
 }
 
 }  // namespace hazmap

@@ -47,24 +47,21 @@ TEST(KalmanChunkRuns, BatchedMergeEqualsRunByRun) {
       runs.sum_heights(w.data(), z.data());
       // Cells: cleared, known and at the floor; stamps behind, at and ahead of the frame.
       const std::uint32_t frame = 10;
-      std::vector<KalmanRule::Cell> cells(kCells + 1);
-      std::vector<std::uint32_t> stamps(kCells);
+      std::vector<KalmanRule::Cell> cells(kCells);
       for (int s = 0; s < kCells; ++s) {
         if (s % 5 != 0) KalmanRule::update(cfg, cells[s], -80.0 + 0.05 * u(rng), 1e-6 + 1e-4 * u(rng));
-        stamps[s] = static_cast<std::uint32_t>(s % 13);
+        cells[s].stamp = static_cast<std::uint32_t>(s % 13);
       }
       std::vector<KalmanRule::Cell> want_cells = cells;
-      std::vector<std::uint32_t> want_stamps = stamps;
-      const std::size_t used =
-          KalmanRule::merge_chunk_runs(cfg, cells.data(), stamps.data(), frame, runs);
-      const std::size_t want_used = KalmanRule::merge_chunk_runs_scalar(
-          cfg, want_cells.data(), want_stamps.data(), frame, runs);
+      const std::size_t used = KalmanRule::merge_chunk_runs(cfg, cells.data(), frame, runs);
+      const std::size_t want_used =
+          KalmanRule::merge_chunk_runs_scalar(cfg, want_cells.data(), frame, runs);
       std::size_t inside = 0;
       for (int i = 0; i < count; ++i) inside += slot[i] >= 0;
       EXPECT_EQ(used, inside);
       EXPECT_EQ(want_used, inside);
       for (int s = 0; s < kCells; ++s) {
-        EXPECT_EQ(stamps[s], want_stamps[s]) << "cell " << s;
+        EXPECT_EQ(cells[s].stamp, want_cells[s].stamp) << "cell " << s;
         EXPECT_EQ(KalmanRule::known(cells[s]), KalmanRule::known(want_cells[s])) << "cell " << s;
         if (!KalmanRule::known(want_cells[s])) continue;
         // Same double steps in both: the mean to 1e-12 m, the float precision to 1 ulp.

@@ -42,9 +42,9 @@ class RollingLayer final : public Layer {
         inv_resolution_(1.0 / resolution_m),
         gate_var_(gate_std_m > 0 ? static_cast<float>(gate_std_m * gate_std_m)
                                  : std::numeric_limits<float>::infinity()),
-        cells_(cell_count() + 1),  // a spare cell past the end: see KalmanRule::merge_chunk_runs
+        cells_(cell_count()),
         accumulators_(Rule::kMergePerRun ? 0 : cell_count()),
-        updated_frame_(cell_count(), 0),
+        updated_frame_(Rule::kStampInCell ? 0 : cell_count(), 0),
         frame_index_(Rule::kMergePerRun ? 0 : cell_count(), 0),
         touched_(Rule::kMergePerRun ? 0 : cell_count(), 0),
         slot_buf_(PointChunk::kStride, -1),
@@ -102,7 +102,7 @@ class RollingLayer final : public Layer {
       const Accumulator& a = accumulators_[k];
       catch_up(slot);
       Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r);
-      updated_frame_[slot] = frame_;
+      stamp(cells_.data(), updated_frame_.data(), slot) = frame_;
     }
   }
 
@@ -256,7 +256,20 @@ class RollingLayer final : public Layer {
     return !pooled && now > last ? now - last : 0;
   }
   std::uint32_t owed_frames(int slot) const {
-    return owed_frames(frame_, updated_frame_[slot], !covered_.empty());
+    return owed_frames(frame_, last_merge(slot), !covered_.empty());
+  }
+  /// The frame of a cell's last merge: in the cell (Rule::kStampInCell) or beside it.
+  static std::uint32_t& stamp(typename Rule::Cell* cells, std::uint32_t* stamps, int slot) {
+    if constexpr (Rule::kStampInCell)
+      return cells[slot].stamp;
+    else
+      return stamps[slot];
+  }
+  std::uint32_t last_merge(int slot) const {
+    if constexpr (Rule::kStampInCell)
+      return cells_[slot].stamp;
+    else
+      return updated_frame_[slot];
   }
   /// Applies the owed ageing before a merge (the merge then stamps the frame).
   void catch_up(int slot) {
@@ -313,7 +326,7 @@ class RollingLayer final : public Layer {
           gy = diff(h(row + 1, col), mid, h(row - 1, col), r);  // row 0 = largest y
         }
         const double added =
-            pose.added_variance(updated_frame_[grid_.slot(ix, iy)], cell_center(ix, r) - rx,
+            pose.added_variance(last_merge(grid_.slot(ix, iy)), cell_center(ix, r) - rx,
                                 cell_center(iy, r) - ry, gx, gy);
         out.variance.at(row, col) = static_cast<float>((std::isnan(v) ? 0.0 : v) + added);
       }
@@ -327,7 +340,7 @@ class RollingLayer final : public Layer {
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);
     if constexpr (Rule::kMergesChunks) {
       if (covered_.empty())
-        return Rule::merge_chunk_runs(config_, cells_.data(), updated_frame_.data(), frame_, runs_);
+        return Rule::merge_chunk_runs(config_, cells_.data(), frame_, runs_);
     }
     return covered_.empty() ? merge_run_list<false>(chunk) : merge_run_list<true>(chunk);
   }
@@ -353,15 +366,16 @@ class RollingLayer final : public Layer {
       const int ahead = run_slot[std::min(k + kPrefetchRuns, count - 1)];
       if (ahead >= 0) {
         __builtin_prefetch(&cells[ahead], 1);
-        __builtin_prefetch(&stamps[ahead], 1);
+        if (!Rule::kStampInCell) __builtin_prefetch(&stamps[ahead], 1);
       }
       const int s = run_slot[k];
       if (!takes<kPooled>(s, covered)) continue;
       const int first = starts[k];
       used += static_cast<std::size_t>(starts[k + 1] - first);
+      std::uint32_t& last = stamp(cells, stamps, s);
       Rule::merge_run(cfg, cells[s], Rule::run_sums(chunk, runs_, k), z[first],
-                      owed_frames(frame, stamps[s], kPooled), max_precision);
-      stamps[s] = frame;
+                      owed_frames(frame, last, kPooled), max_precision);
+      last = frame;
     }
     return used;
   }
@@ -411,9 +425,9 @@ class RollingLayer final : public Layer {
   double inv_resolution_;
   float gate_var_;
   std::uint32_t frame_ = 0;
-  std::vector<typename Rule::Cell> cells_;  ///< cell_count() cells and a spare
+  std::vector<typename Rule::Cell> cells_;
   std::vector<Accumulator> accumulators_;
-  std::vector<std::uint32_t> updated_frame_;
+  std::vector<std::uint32_t> updated_frame_;  ///< each cell's last merge, unless in the cell
   std::vector<int> frame_index_;  ///< slot -> its accumulator this frame (see accumulate_runs)
   std::vector<int> touched_;      ///< accumulator -> slot, in order of first touch
   int touched_count_ = 0;

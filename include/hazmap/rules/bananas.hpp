@@ -19,6 +19,8 @@ struct BananasRule {
   static constexpr bool kMergePerRun = true;
   static constexpr bool kUsesHeightSums = false;
   static constexpr bool kMergesChunks = false;
+  /// The layer keeps each cell's last-merge frame beside the cells.
+  static constexpr bool kStampInCell = false;
 
   struct Config {};
   struct Cell {

@@ -28,6 +28,8 @@ struct CcmRule {
   static constexpr bool kHasPlane = true;
   /// The weight cap applies once per frame (SPEC 6.4).
   static constexpr bool kMergePerRun = false;
+  /// The layer keeps each cell's last-merge frame beside the cells.
+  static constexpr bool kStampInCell = false;
   static constexpr bool kUsesHeightSums = false;
 
   struct Config {

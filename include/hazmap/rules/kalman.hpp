@@ -38,6 +38,8 @@ struct KalmanRule {
   static constexpr bool kUsesHeightSums = true;
   /// Plain layers hand a chunk's whole run list to merge_chunk_runs.
   static constexpr bool kMergesChunks = true;
+  /// The cell holds its last-merge frame: a merge then reads and writes one 16-byte cell.
+  static constexpr bool kStampInCell = true;
 
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
@@ -47,7 +49,8 @@ struct KalmanRule {
   /// precision 0 marks a cell that has never been observed.
   struct Cell {
     SplitHeight mean_m;
-    float precision = 0.0f;  ///< 1 / variance [1/m^2]
+    float precision = 0.0f;   ///< 1 / variance [1/m^2]
+    std::uint32_t stamp = 0;  ///< frame of the last merge (the layer's lazy ageing, SPEC 7)
   };
 
   /// Information-form sums of a run's (or a frame's) points, z relative to a reference.
@@ -108,19 +111,16 @@ struct KalmanRule {
   /// (src/map/kalman_runs.cpp). A run's merge is a chain of dependent steps around a
   /// division (load the cell, age, merge, cap, split, store); merged one after another,
   /// only a few runs' chains overlap in the core. Here eight runs share one chain: their
-  /// cells are gathered, merged in float lanes and stored back one by one. A batch whose
-  /// runs do not all fall in distinct cells inside the window (two runs of one cell would
-  /// read it before the first merge lands) is merged run by run with merge_run, as is the
-  /// chunk's last partial batch. Runs outside the window (slot < 0) are skipped; merged
-  /// cells are stamped with `frame`. Returns the number of points merged. Equal to
-  /// merge_run run after run to float rounding: the new mean is stored as the run's first
-  /// height plus a float offset.
-  /// `cells` holds one spare cell past the last slot (16-byte loads of 12-byte cells).
-  static std::size_t merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t* stamps,
-                                      std::uint32_t frame, const ChunkRuns& runs);
+  /// cells are loaded and transposed into lanes, merged in double lanes with merge_run's
+  /// steps, transposed back and stored whole. A batch whose runs do not all fall in
+  /// distinct cells inside the window (two runs of one cell would read it before the
+  /// first merge lands) is merged run by run with merge_run, as is the chunk's last
+  /// partial batch. Runs outside the window (slot < 0) are skipped; merged cells are
+  /// stamped with `frame`. Returns the number of points merged.
+  static std::size_t merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t frame,
+                                      const ChunkRuns& runs);
   /// merge_run run after run from run `first` on (what merge_chunk_runs does without AVX2).
-  static std::size_t merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
-                                             std::uint32_t* stamps, std::uint32_t frame,
+  static std::size_t merge_chunk_runs_scalar(const Config& cfg, Cell* cells, std::uint32_t frame,
                                              const ChunkRuns& runs, int first = 0);
 
   /// The precision cap merge_run takes: 1 / min_variance (infinite without a floor).

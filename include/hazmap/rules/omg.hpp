@@ -25,6 +25,8 @@ struct OmgRule {
   static constexpr bool kHasPlane = false;
   /// The weight cap applies once per frame.
   static constexpr bool kMergePerRun = false;
+  /// The layer keeps each cell's last-merge frame beside the cells.
+  static constexpr bool kStampInCell = false;
   static constexpr bool kUsesHeightSums = false;
 
   struct Config {
