@@ -8,28 +8,30 @@
 namespace hazmap {
 
 namespace {
-KalmanRule::Sums sums_of(const ChunkRuns& runs, int k) {
-  KalmanRule::Sums s;
-  s.w = runs.sum_w(k);
-  s.wz = runs.sum_wz(k);
-  return s;
+/// Runs [first, last) merged one after another with KalmanRule::merge_run.
+std::size_t merge_one_by_one(const KalmanRule::Config& cfg, KalmanRule::Cell* cells,
+                             std::uint32_t frame, const ChunkRuns& runs, int first, int last) {
+  const double max_precision = KalmanRule::max_precision(cfg);
+  std::size_t used = 0;
+  for (int k = first; k < last; ++k) {
+    const int s = runs.slot(k);
+    if (s < 0) continue;
+    used += static_cast<std::size_t>(runs.end(k) - runs.begin(k));
+    KalmanRule::Sums sums;
+    sums.w = runs.sum_w(k);
+    sums.wz = runs.sum_wz(k);
+    const std::uint32_t owed = frame > cells[s].stamp ? frame - cells[s].stamp : 0;
+    KalmanRule::merge_run(cfg, cells[s], sums, runs.first_z(k), owed, max_precision);
+    cells[s].stamp = frame;
+  }
+  return used;
 }
 }  // namespace
 
 std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
                                                 std::uint32_t frame, const ChunkRuns& runs,
                                                 int first) {
-  const double max_precision = KalmanRule::max_precision(cfg);
-  std::size_t used = 0;
-  for (int k = first; k < runs.size(); ++k) {
-    const int s = runs.slot(k);
-    if (s < 0) continue;
-    used += static_cast<std::size_t>(runs.end(k) - runs.begin(k));
-    const std::uint32_t owed = frame > cells[s].stamp ? frame - cells[s].stamp : 0;
-    KalmanRule::merge_run(cfg, cells[s], sums_of(runs, k), runs.first_z(k), owed, max_precision);
-    cells[s].stamp = frame;
-  }
-  return used;
+  return merge_one_by_one(cfg, cells, frame, runs, first, runs.size());
 }
 
 #ifdef HAZMAP_HAVE_AVX2_KALMAN
@@ -114,15 +116,7 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
                         _mm256_cmpeq_epi32(s, _mm256_permutevar8x32_epi32(s, rot4))));
     const __m256i bad = _mm256_or_si256(clash, _mm256_cmpgt_epi32(_mm256_setzero_si256(), s));
     if (!_mm256_testz_si256(bad, bad)) {
-      for (int j = 0; j < 8; ++j) {
-        const int sj = slots[k + j];
-        if (sj < 0) continue;
-        used_scalar += static_cast<std::size_t>(starts[k + j + 1] - starts[k + j]);
-        const std::uint32_t owed = frame > cells[sj].stamp ? frame - cells[sj].stamp : 0;
-        KalmanRule::merge_run(cfg, cells[sj], sums_of(runs, k + j), first_z[k + j], owed,
-                              KalmanRule::max_precision(cfg));
-        cells[sj].stamp = frame;
-      }
+      used_scalar += merge_one_by_one(cfg, cells, frame, runs, k, k + 8);
       continue;
     }
     // The eight cells (16 bytes: ref, off, precision, stamp) transposed into lanes. No
