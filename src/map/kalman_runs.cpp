@@ -1,5 +1,7 @@
 #include "hazmap/rules/kalman.hpp"
 
+#include "hazmap/map/lazy_ageing.hpp"
+
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #define HAZMAP_HAVE_AVX2_KALMAN 1
@@ -20,18 +22,17 @@ std::size_t merge_one_by_one(const KalmanRule::Config& cfg, KalmanRule::Cell* ce
     KalmanRule::Sums sums;
     sums.w = runs.sum_w(k);
     sums.wz = runs.sum_wz(k);
-    const std::uint32_t owed = frame > cells[s].stamp ? frame - cells[s].stamp : 0;
-    KalmanRule::merge_run(cfg, cells[s], sums, runs.first_z(k), owed, max_precision);
+    KalmanRule::merge_run(cfg, cells[s], sums, runs.first_z(k), owed_frames(frame, cells[s].stamp),
+                          max_precision);
     cells[s].stamp = frame;
   }
   return used;
 }
 }  // namespace
 
-std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells,
-                                                std::uint32_t frame, const ChunkRuns& runs,
-                                                int first) {
-  return merge_one_by_one(cfg, cells, frame, runs, first, runs.size());
+std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells, std::uint32_t frame,
+                                                const ChunkRuns& runs) {
+  return merge_one_by_one(cfg, cells, frame, runs, 0, runs.size());
 }
 
 #ifdef HAZMAP_HAVE_AVX2_KALMAN
@@ -49,10 +50,9 @@ static_assert(sizeof(KalmanRule::Cell) == 16, "cell = ref, off, precision, stamp
   const __m256d a = _mm256_add_pd(p, _mm256_mul_pd(d, w));
   const __m256d r = _mm256_div_pd(one, _mm256_mul_pd(d, a));
   const __m256d mean = _mm256_add_pd(
-      z_ref, _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(p, offset),
-                                                       _mm256_mul_pd(d, wz)),
-                                         d),
-                           r));
+      z_ref,
+      _mm256_mul_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(p, offset), _mm256_mul_pd(d, wz)), d),
+                    r));
   // SplitHeight::set: the float nearest the mean, then the float nearest the rest.
   new_ref = _mm256_cvtpd_ps(mean);
   new_off = _mm256_cvtpd_ps(_mm256_sub_pd(mean, _mm256_cvtps_pd(new_ref)));
@@ -142,8 +142,8 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
     // Frames owed: now - stamp, or 0 if the stamp is ahead (unsigned).
     const __m256 owed = _mm256_cvtepi32_ps(_mm256_sub_epi32(now, _mm256_min_epu32(stamp, now)));
     // A run without weight on a cleared cell leaves it cleared (the formula is 0 / 0).
-    const __m256 empty = _mm256_andnot_ps(_mm256_cmp_ps(w, zero, _CMP_GT_OQ),
-                                          _mm256_cmp_ps(p, zero, _CMP_EQ_OQ));
+    const __m256 empty =
+        _mm256_andnot_ps(_mm256_cmp_ps(w, zero, _CMP_GT_OQ), _mm256_cmp_ps(p, zero, _CMP_EQ_OQ));
     __m256 new_ref_v, new_off_v, new_p_v;
     merge_lanes(ref, off, p, z_ref, w, wz, owed, q, cap, new_ref_v, new_off_v, new_p_v);
     new_ref_v = _mm256_blendv_ps(new_ref_v, ref, empty);
@@ -169,7 +169,7 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
   alignas(32) int lanes[8];
   _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), used);
   for (int j = 0; j < 8; ++j) used_scalar += static_cast<std::size_t>(lanes[j]);
-  return used_scalar + KalmanRule::merge_chunk_runs_scalar(cfg, cells, frame, runs, k);
+  return used_scalar + merge_one_by_one(cfg, cells, frame, runs, k, count);
 }
 
 }  // namespace

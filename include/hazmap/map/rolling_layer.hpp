@@ -26,6 +26,7 @@
 #include "hazmap/map/chunk_runs.hpp"
 #include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/layer.hpp"
+#include "hazmap/map/lazy_ageing.hpp"
 #include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
@@ -253,7 +254,7 @@ class RollingLayer final : public Layer {
   /// Frames of Rule::age a cell last merged in frame `last` still owes in frame `now`:
   /// none on pooled layers (aged every frame), and none if frame numbers went backwards.
   static std::uint32_t owed_frames(std::uint32_t now, std::uint32_t last, bool pooled) {
-    return !pooled && now > last ? now - last : 0;
+    return pooled ? 0 : hazmap::owed_frames(now, last);
   }
   std::uint32_t owed_frames(int slot) const {
     return owed_frames(frame_, last_merge(slot), !covered_.empty());

@@ -119,9 +119,9 @@ struct KalmanRule {
   /// stamped with `frame`. Returns the number of points merged.
   static std::size_t merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t frame,
                                       const ChunkRuns& runs);
-  /// merge_run run after run from run `first` on (what merge_chunk_runs does without AVX2).
+  /// merge_run run after run (what merge_chunk_runs does without AVX2).
   static std::size_t merge_chunk_runs_scalar(const Config& cfg, Cell* cells, std::uint32_t frame,
-                                             const ChunkRuns& runs, int first = 0);
+                                             const ChunkRuns& runs);
 
   /// The precision cap merge_run takes: 1 / min_variance (infinite without a floor).
   static double max_precision(const Config& cfg) {
