@@ -4,6 +4,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
+#include <string>
+#include <vector>
+
 #include "bench_points.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/map/map_points.hpp"
@@ -98,6 +102,42 @@ void BM_FlightStack(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
                           {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
 }
+/// The flight stack with each layer's share timed inside it: LayerStack::insert's loop
+/// (all_layers: each chunk to every layer in turn) with a clock read between layers, so
+/// that a layer is charged for what it costs next to the others (cache traffic included).
+/// Counters: ns per point of each layer (L0 = Kalman 1 cm, L1..L3 = CCM 4, 16, 64 cm).
+void BM_FlightStackByLayer(benchmark::State& state) {
+  using Clock = std::chrono::steady_clock;
+  const MapConfig map = make_map({{RuleKind::kalman, 0.01, 1000}, {RuleKind::ccm, 0.04, 250},
+                                  {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}});
+  RulesConfig rules;
+  LayerStack stack(map, rules);
+  const MapPoints& points = frame_points(state.range(0) != 0);
+  stack.begin_frame(0.0, 0.0);
+  const std::size_t n = stack.size();
+  std::vector<double> layer_ns(n, 0.0);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) stack.layer(i).begin_insert();
+    points.for_each_chunk([&](const PointChunk& chunk) {
+      Clock::time_point t = Clock::now();
+      for (std::size_t i = 0; i < n; ++i) {
+        benchmark::DoNotOptimize(stack.layer(i).insert_chunk(chunk));
+        const Clock::time_point next = Clock::now();
+        layer_ns[i] += std::chrono::duration<double, std::nano>(next - t).count();
+        t = next;
+      }
+    });
+    for (std::size_t i = 0; i < n; ++i) {
+      const Clock::time_point t = Clock::now();
+      stack.layer(i).end_insert();
+      layer_ns[i] += std::chrono::duration<double, std::nano>(Clock::now() - t).count();
+    }
+  }
+  const double point_frames = double(points.size()) * double(state.iterations());
+  for (std::size_t i = 0; i < n; ++i)
+    state.counters["L" + std::to_string(i) + "_ns_per_point"] = layer_ns[i] / point_frames;
+  state.counters["points"] = double(points.size());
+}
 /// The flight stack frame by frame: begin_frame (the robot stands still, so no roll; the
 /// Kalman layer's time inflation) and insertion.
 void BM_FlightStackFrame(benchmark::State& s) {
@@ -130,6 +170,7 @@ BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm4cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm16cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlightStackByLayer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStackFrame)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStackCcmOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ThesisCcmAllLayers)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
