@@ -108,6 +108,7 @@ MapConfig flight_stack() {
                    {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}});
 }
 void BM_FlightStack(benchmark::State& s) { run_insert(s, flight_stack()); }
+
 #if defined(__x86_64__)
 /// The time stamp counter: a clock call would fence the pipeline between layers and cost
 /// more than a small layer's chunk.
@@ -119,8 +120,9 @@ std::uint64_t ticks_now() {
 #endif
 
 /// The flight stack with each layer's share timed inside it: LayerStack::insert's loop
-/// (all_layers: each chunk to every layer in turn) with a clock read between layers, so
-/// that a layer is charged for what it costs next to the others (cache traffic included).
+/// (all_layers: each chunk to every layer in turn; kept in step with it by hand) with a
+/// tick read between layers, so that a layer is charged for what it costs next to the
+/// others (cache traffic included).
 /// Counters: ns per point of each layer (L0 = Kalman 1 cm, L1..L3 = CCM 4, 16, 64 cm).
 void BM_FlightStackByLayer(benchmark::State& state) {
   using Clock = std::chrono::steady_clock;
