@@ -1,8 +1,11 @@
 #include "hazmap/map/layer_stack.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/ticks.hpp"
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/bananas.hpp"
 #include "hazmap/rules/ccm.hpp"
@@ -46,6 +49,7 @@ LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose
       track_pose_(pose_uncertainty) {
   for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, i));
   pools_.resize(layers_.size());
+  layer_ticks_.assign(layers_.size(), 0);
   if (pooling_)
     for (std::size_t i = 1; i < layers_.size(); ++i) {
       const auto n = static_cast<std::size_t>(map.layers[i].size);
@@ -64,21 +68,59 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
     for (std::size_t i = 1; i < layers_.size(); ++i) layers_[i]->update_coverage(layers_[i - 1]->grid());
 }
 
-std::size_t LayerStack::insert(const MapPoints& points) {
+namespace {
+/// LayerStack::insert's work: `lap(i)` is called after each piece of layer i's work.
+template <class Lap>
+std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vector<PoolGrid>& pools,
+                          bool pooling, const MapPoints& points, Lap&& lap) {
   // Each chunk is read by every layer while it is in cache.
   std::size_t updates = 0;
-  for (auto& layer : layers_) layer->begin_insert();
+  const std::size_t n = layers.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    layers[i]->begin_insert();
+    lap(i);
+  }
   points.for_each_chunk([&](const PointChunk& chunk) {
-    for (auto& layer : layers_) updates += layer->insert_chunk(chunk);
+    for (std::size_t i = 0; i < n; ++i) {
+      updates += layers[i]->insert_chunk(chunk);
+      lap(i);
+    }
   });
-  for (auto& layer : layers_) layer->end_insert();
-  if (pooling_) {
+  for (std::size_t i = 0; i < n; ++i) {
+    layers[i]->end_insert();
+    lap(i);
+  }
+  if (pooling) {
     // Fine to coarse, so that a layer's covered cells are rebuilt before it is pooled.
-    for (std::size_t i = 1; i < layers_.size(); ++i) {
-      layers_[i - 1]->pool_into(pools_[i], *layers_[i]);
-      layers_[i]->rebuild_covered(pools_[i]);
+    for (std::size_t i = 1; i < n; ++i) {
+      layers[i - 1]->pool_into(pools[i], *layers[i]);
+      layers[i]->rebuild_covered(pools[i]);
+      lap(i);
     }
   }
+  return updates;
+}
+}  // namespace
+
+std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
+  if (layer_ms == nullptr)
+    return insert_layers(layers_, pools_, pooling_, points, [](std::size_t) {});
+  using Clock = std::chrono::steady_clock;
+  std::fill(layer_ticks_.begin(), layer_ticks_.end(), 0);
+  const Clock::time_point start = Clock::now();
+  const std::uint64_t start_ticks = read_ticks();
+  std::uint64_t last = start_ticks;
+  const std::size_t updates =
+      insert_layers(layers_, pools_, pooling_, points, [&](std::size_t i) {
+        const std::uint64_t now = read_ticks();
+        layer_ticks_[i] += now - last;
+        last = now;
+      });
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  const std::uint64_t ticks = last - start_ticks;
+  for (std::size_t i = 0; i < layers_.size(); ++i)
+    layer_ms[i] = ticks > 0 ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
+                            : 0.0;
   return updates;
 }
 

@@ -48,6 +48,7 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
       map_(config.map, config.rules, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
+      layer_map_ms_(config.map.layers.size(), 0.0),
       views_(config.map.layers.size()) {
   for (const auto& layer : config.map.layers) {
     roughness_params_.push_back(roughness_params(layer, config.hazard));
@@ -70,7 +71,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
   map_.begin_frame(robot.x(), robot.y(), noise);
-  report.updates = map_.insert(points_);
+  report.updates = map_.insert(points_, layer_map_ms_.data());
   report.ms.map_ms = ms_since(t);
 
   t = Clock::now();

@@ -24,6 +24,7 @@ struct FrameRecord {
   StageTimes ms;
   bool written = false;
   std::vector<HazardAreas> areas;  ///< per layer, then fused (written frames only)
+  std::vector<double> layer_map_ms;  ///< each layer's share of the insertion
 };
 
 void write_summary(const std::filesystem::path& path, const Config& config,
@@ -64,11 +65,16 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.end_object();
   j.key("map_ns_per_point").value(points ? sum.map_ms * 1e6 / static_cast<double>(points) : 0.0);
   j.key("layers").begin_array();
-  for (const auto& l : config.map.layers) {
+  for (size_t i = 0; i < config.map.layers.size(); ++i) {
+    const LayerConfig& l = config.map.layers[i];
+    double layer_ms = 0;
+    for (const auto& f : frames) layer_ms += i < f.layer_map_ms.size() ? f.layer_map_ms[i] : 0.0;
     j.begin_object();
     j.key("resolution_m").value(l.resolution_m);
     j.key("size").value(l.size);
     j.key("rule").value(rule_name(l.rule));
+    j.key("insert_ms_per_frame").value(layer_ms / n);
+    j.key("insert_ns_per_point").value(points ? layer_ms * 1e6 / static_cast<double>(points) : 0.0);
     j.end_object();
   }
   j.end_array();
@@ -142,6 +148,7 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     }
     rec.points = report.points;
     rec.ms = report.ms;
+    rec.layer_map_ms = pipeline.layer_map_ms();
 
     const bool write = i % config.output.every_n == 0 || i == n - 1;
     if (write) {

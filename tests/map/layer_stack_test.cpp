@@ -2,6 +2,7 @@
 
 #include "hazmap/map/layer_stack.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <random>
@@ -106,6 +107,44 @@ TEST(LayerStack, WithTheWeightCapPoolingDiffersAndTheDifferenceIsReported) {
   RecordProperty("ccm_capped_max_relative_difference", std::to_string(diff));
   std::printf("finest_then_pool vs all_layers with ccm.max_weight = 50: max relative difference %.3g\n", diff);
   EXPECT_GT(diff, 1e-3);  // the cap acts on different point sets in the two modes
+}
+
+// Timing each layer must not change what is inserted, and the layers' shares must add
+// up to no more than the call's wall time.
+TEST(LayerStack, PerLayerTimesLeaveTheMapUnchangedAndSumToTheCallsTime) {
+  for (const std::string insertion : {"all_layers", "finest_then_pool"}) {
+    const MapConfig map = stack(RuleKind::ccm, insertion, {{0.02, 32}, {0.04, 16}, {0.16, 8}});
+    LayerStack plain(map, uncapped()), timed(map, uncapped());
+    std::mt19937_64 rng(11);
+    std::vector<double> layer_ms(timed.size(), -1.0);
+    for (int frame = 0; frame < 3; ++frame) {
+      const MapPoints points(random_cloud(rng, 5000, 0.3));
+      plain.begin_frame(0.001, 0.002);
+      timed.begin_frame(0.001, 0.002);
+      const std::size_t expected = plain.insert(points);
+      const auto start = std::chrono::steady_clock::now();
+      EXPECT_EQ(timed.insert(points, layer_ms.data()), expected) << insertion;
+      const double wall_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      double sum = 0;
+      for (const double ms : layer_ms) {
+        EXPECT_GT(ms, 0.0) << insertion;
+        sum += ms;
+      }
+      EXPECT_LE(sum, wall_ms * (1 + 1e-9)) << insertion;
+    }
+    for (size_t i = 0; i < plain.size(); ++i) {
+      const RollingGrid& g = plain.layer(i).grid();
+      for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
+        for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
+          const Moments a = plain.layer(i).cell_moments(ix, iy), b = timed.layer(i).cell_moments(ix, iy);
+          ASSERT_EQ(a.w, b.w);
+          ASSERT_EQ(a.mz, b.mz);
+          ASSERT_EQ(a.szz, b.szz);
+          ASSERT_EQ(a.sxz, b.sxz);
+        }
+    }
+  }
 }
 
 TEST(LayerStack, MixedFamiliesNeedAllLayers) {

@@ -4,12 +4,6 @@
 
 #include <benchmark/benchmark.h>
 
-#if defined(__x86_64__)
-#include <x86intrin.h>
-#endif
-
-#include <chrono>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -109,56 +103,25 @@ MapConfig flight_stack() {
 }
 void BM_FlightStack(benchmark::State& s) { run_insert(s, flight_stack()); }
 
-#if defined(__x86_64__)
-/// The time stamp counter: a clock call would fence the pipeline between layers and cost
-/// more than a small layer's chunk.
-std::uint64_t ticks_now() { return __rdtsc(); }
-#else
-std::uint64_t ticks_now() {
-  return static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
-}
-#endif
-
-/// The flight stack with each layer's share timed inside it: LayerStack::insert's loop
-/// (all_layers: each chunk to every layer in turn; kept in step with it by hand) with a
-/// tick read between layers, so that a layer is charged for what it costs next to the
-/// others (cache traffic included).
+/// The flight stack with each layer's share timed inside it (LayerStack::insert's
+/// per-layer times: a tick read between layers), so that a layer is charged for what it
+/// costs next to the others (cache traffic included).
 /// Counters: ns per point of each layer (L0 = Kalman 1 cm, L1..L3 = CCM 4, 16, 64 cm).
 void BM_FlightStackByLayer(benchmark::State& state) {
-  using Clock = std::chrono::steady_clock;
   const MapConfig map = flight_stack();
   RulesConfig rules;
   LayerStack stack(map, rules);
   const MapPoints& points = frame_points(state.range(0) != 0);
   stack.begin_frame(0.0, 0.0);
   const std::size_t n = stack.size();
-  // Ticks between layers, converted to ns with the loop's own clock time.
-  std::vector<std::uint64_t> ticks(n, 0);
-  const Clock::time_point start = Clock::now();
-  const std::uint64_t start_ticks = ticks_now();
+  std::vector<double> frame_ms(n, 0.0), total_ms(n, 0.0);
   for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i) stack.layer(i).begin_insert();
-    points.for_each_chunk([&](const PointChunk& chunk) {
-      std::uint64_t t = ticks_now();
-      for (std::size_t i = 0; i < n; ++i) {
-        benchmark::DoNotOptimize(stack.layer(i).insert_chunk(chunk));
-        const std::uint64_t next = ticks_now();
-        ticks[i] += next - t;
-        t = next;
-      }
-    });
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t t = ticks_now();
-      stack.layer(i).end_insert();
-      ticks[i] += ticks_now() - t;
-    }
+    benchmark::DoNotOptimize(stack.insert(points, frame_ms.data()));
+    for (std::size_t i = 0; i < n; ++i) total_ms[i] += frame_ms[i];
   }
-  const double ns_per_tick = std::chrono::duration<double, std::nano>(Clock::now() - start).count() /
-                             double(ticks_now() - start_ticks);
   const double point_frames = double(points.size()) * double(state.iterations());
   for (std::size_t i = 0; i < n; ++i)
-    state.counters["L" + std::to_string(i) + "_ns_per_point"] =
-        double(ticks[i]) * ns_per_tick / point_frames;
+    state.counters["L" + std::to_string(i) + "_ns_per_point"] = total_ms[i] * 1e6 / point_frames;
   state.counters["points"] = double(points.size());
 }
 /// The flight stack frame by frame: begin_frame (the robot stands still, so no roll; the

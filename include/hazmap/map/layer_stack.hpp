@@ -3,6 +3,7 @@
 // built once from the config. Per frame: begin_frame (roll + per-frame rule updates),
 // insert (all_layers or finest_then_pool), then export grids for hazards and output.
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -29,7 +30,10 @@ class LayerStack {
 
   /// Inserts the frame's points and, in finest_then_pool mode, rebuilds covered coarse
   /// cells from their children. Returns the number of point-into-layer updates.
-  std::size_t insert(const MapPoints& points);
+  /// `layer_ms`, if given (size() entries): each layer's share of the call's wall time,
+  /// in milliseconds, measured inside the chunk loop (a layer pays for the cache traffic
+  /// the others cause it); pooling into a layer counts for that layer.
+  std::size_t insert(const MapPoints& points, double* layer_ms = nullptr);
 
   /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
   void export_layer(std::size_t i, LayerGrids& out) const;
@@ -43,6 +47,7 @@ class LayerStack {
  private:
   std::vector<std::unique_ptr<Layer>> layers_;
   std::vector<PoolGrid> pools_;  ///< pools_[i]: children of layer i (i >= 1)
+  std::vector<std::uint64_t> layer_ticks_;  ///< insert's per-layer time, in read_ticks() units
   bool pooling_ = false;
   bool track_pose_ = false;
   PoseUncertainty pose_;

@@ -340,10 +340,13 @@ class RollingLayer final : public Layer {
     runs_.find(slot_buf_.data(), chunk.size);
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);
     if constexpr (Rule::kMergesChunks) {
+      // The rule merges a whole chunk's runs itself, except on pooled layers.
       if (covered_.empty())
         return Rule::merge_chunk_runs(config_, cells_.data(), frame_, runs_);
+      return merge_run_list<true>(chunk);
+    } else {
+      return covered_.empty() ? merge_run_list<false>(chunk) : merge_run_list<true>(chunk);
     }
-    return covered_.empty() ? merge_run_list<false>(chunk) : merge_run_list<true>(chunk);
   }
 
   /// The merge loop, compiled apart for pooled layers (whose covered cells take no points

@@ -65,6 +65,8 @@ class Pipeline {
   const std::vector<LayerView>& layers() const { return views_; }
   const DenseGrid& fused_hazard() const { return fused_; }
   const LayerStack& map() const { return map_; }
+  /// Each layer's share of the last frame's insertion, ms (LayerStack::insert).
+  const std::vector<double>& layer_map_ms() const { return layer_map_ms_; }
   const PointCloud& cloud() const { return front_.cloud(); }
   const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
   const Rectifier& rectifier() const { return front_.rectifier(); }
@@ -77,6 +79,7 @@ class Pipeline {
   LayerStack map_;
   CcmWeighting weighting_;
   MapPoints points_;  ///< the frame's points as the map reads them
+  std::vector<double> layer_map_ms_;
   RoughnessFilter roughness_;
   std::vector<RoughnessParams> roughness_params_;
   std::vector<CcmHazardParams> ccm_params_;
