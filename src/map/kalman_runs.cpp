@@ -19,11 +19,8 @@ std::size_t merge_one_by_one(const KalmanRule::Config& cfg, KalmanRule::Cell* ce
     const int s = runs.slot(k);
     if (s < 0) continue;
     used += static_cast<std::size_t>(runs.end(k) - runs.begin(k));
-    KalmanRule::Sums sums;
-    sums.w = runs.sum_w(k);
-    sums.wz = runs.sum_wz(k);
-    KalmanRule::merge_run(cfg, cells[s], sums, runs.first_z(k), owed_frames(frame, cells[s].stamp),
-                          max_precision);
+    KalmanRule::merge_run(cfg, cells[s], KalmanRule::run_sums(runs, k), runs.first_z(k),
+                          owed_frames(frame, cells[s].stamp), max_precision);
     cells[s].stamp = frame;
   }
   return used;

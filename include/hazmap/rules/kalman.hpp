@@ -67,12 +67,16 @@ struct KalmanRule {
   static double mean(const Cell& c) { return c.mean_m.value(); }
   static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
-  /// Sums of run r of the chunk (points in one cell), z relative to the run's first height.
-  static Sums run_sums(const PointChunk& /*chunk*/, const ChunkRuns& runs, int r) {
+  /// Sums of run r of the chunk (points in one cell), z relative to the run's first height:
+  /// ChunkRuns holds them (sum_heights), the chunk is not read again.
+  static Sums run_sums(const ChunkRuns& runs, int r) {
     Sums s;
     s.w = runs.sum_w(r);
     s.wz = runs.sum_wz(r);
     return s;
+  }
+  static Sums run_sums(const PointChunk& /*chunk*/, const ChunkRuns& runs, int r) {
+    return run_sums(runs, r);
   }
 
   /// Merges a run's or a frame's sums (z relative to z_ref_m) into the cell: the
