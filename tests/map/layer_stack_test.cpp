@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -144,6 +145,52 @@ TEST(LayerStack, PerLayerTimesLeaveTheMapUnchangedAndSumToTheCallsTime) {
           ASSERT_EQ(a.sxz, b.sxz);
         }
     }
+  }
+}
+
+// The stack hands each chunk to its layers coarsest first (whoever reads a chunk first
+// pays for its cache misses); a layer's state must still be exactly what it would be
+// alone: a mixed stack, rolling, against one single-layer stack per layer.
+TEST(LayerStack, EachLayerOfAMixedStackEqualsTheSameLayerAlone) {
+  MapConfig map = stack(RuleKind::kalman, "all_layers", {{0.02, 32}, {0.04, 16}, {0.16, 8}});
+  map.layers[1].rule = map.layers[2].rule = RuleKind::ccm;
+  const RulesConfig rules;
+  LayerStack mixed(map, rules);
+  std::vector<std::unique_ptr<LayerStack>> alone;
+  for (const LayerConfig& layer : map.layers) {
+    MapConfig one = map;
+    one.layers = {layer};
+    alone.push_back(std::make_unique<LayerStack>(one, rules));
+  }
+  std::mt19937_64 rng(5);
+  for (int frame = 0; frame < 4; ++frame) {
+    const MapPoints points(random_cloud(rng, 6000, 0.4));
+    const double robot_x = 0.03 * frame, robot_y = -0.05 * frame;  // rolls the finer layers
+    mixed.begin_frame(robot_x, robot_y);
+    std::size_t updates = 0;
+    for (auto& s : alone) {
+      s->begin_frame(robot_x, robot_y);
+      updates += s->insert(points);
+    }
+    EXPECT_EQ(mixed.insert(points), updates);
+  }
+  for (size_t i = 0; i < mixed.size(); ++i) {
+    const RollingGrid& g = mixed.layer(i).grid();
+    int observed = 0;
+    for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
+      for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
+        const Moments a = mixed.layer(i).cell_moments(ix, iy);
+        const Moments b = alone[i]->layer(0).cell_moments(ix, iy);
+        observed += !a.empty();
+        ASSERT_EQ(a.empty(), b.empty()) << "layer " << i;
+        if (a.empty()) continue;
+        ASSERT_EQ(a.w, b.w) << "layer " << i;
+        ASSERT_EQ(a.mz, b.mz) << "layer " << i;
+        ASSERT_EQ(a.szz, b.szz) << "layer " << i;
+        ASSERT_EQ(a.mx, b.mx) << "layer " << i;
+        ASSERT_EQ(a.sxz, b.sxz) << "layer " << i;
+      }
+    EXPECT_GT(observed, 30) << "layer " << i;
   }
 }
 
