@@ -98,8 +98,10 @@ __attribute__((target("avx2,fma"))) void locate_avx2(const PointChunk& c, const 
       _mm256_storeu_ps(cy + i, _mm256_sub_ps(ay, _mm256_add_ps(_mm256_cvtepi32_ps(ly1), half)));
     }
     __m256i sx = _mm256_add_epi32(lx, wrap_x), sy = _mm256_add_epi32(ly, wrap_y);
-    sx = _mm256_sub_epi32(sx, _mm256_and_si256(_mm256_cmpgt_epi32(sx, last), n));
-    sy = _mm256_sub_epi32(sy, _mm256_and_si256(_mm256_cmpgt_epi32(sy, last), n));
+    // Ring wrap: sx - N where sx >= N; below N, sx - N is negative, i.e. a huge unsigned
+    // value, so the unsigned minimum picks sx (two operations instead of three).
+    sx = _mm256_min_epu32(sx, _mm256_sub_epi32(sx, n));
+    sy = _mm256_min_epu32(sy, _mm256_sub_epi32(sy, n));
     const __m256i s = _mm256_madd_epi16(_mm256_or_si256(sx, _mm256_slli_epi32(sy, 16)), row);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(slot + i), _mm256_or_si256(s, out));
   }
