@@ -29,7 +29,8 @@ class LayerStack {
   void begin_frame(double robot_x_m, double robot_y_m, const PoseNoise& noise = {});
 
   /// Inserts the frame's points and, in finest_then_pool mode, rebuilds covered coarse
-  /// cells from their children. Returns the number of point-into-layer updates.
+  /// cells from their children. Returns the number of point-into-layer updates. The
+  /// points go in chunks to every layer in turn, coarsest first (layer_stack.cpp).
   /// `layer_ms`, if given (size() entries): each layer's share of the call's wall time,
   /// in milliseconds, measured inside the chunk loop (a layer pays for the cache traffic
   /// the others cause it); pooling into a layer counts for that layer.
