@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -95,6 +96,26 @@ double pooled_vs_all_layers(RuleKind rule, const RulesConfig& rules, std::vector
   return worst;
 }
 
+/// Asserts that two layers over the same window hold bit-identical cells; returns the
+/// number of observed cells.
+int expect_identical_cells(const Layer& a_layer, const Layer& b_layer, const std::string& what) {
+  const RollingGrid& g = a_layer.grid();
+  int observed = 0;
+  for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
+    for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
+      const Moments a = a_layer.cell_moments(ix, iy), b = b_layer.cell_moments(ix, iy);
+      observed += !a.empty();
+      EXPECT_EQ(a.empty(), b.empty()) << what;
+      EXPECT_EQ(a.w, b.w) << what;
+      EXPECT_EQ(a.mz, b.mz) << what;
+      EXPECT_EQ(a.szz, b.szz) << what;
+      EXPECT_EQ(a.mx, b.mx) << what;
+      EXPECT_EQ(a.sxz, b.sxz) << what;
+      if (::testing::Test::HasFailure()) return observed;  // one report, not one per cell
+    }
+  return observed;
+}
+
 TEST(LayerStack, FinestThenPoolEqualsAllLayersWithoutRollingOrCap) {
   EXPECT_LT(pooled_vs_all_layers(RuleKind::ccm, uncapped(), {{0.04, 8}, {0.08, 8}, {0.16, 8}}), 1e-5);
   EXPECT_LT(pooled_vs_all_layers(RuleKind::omg, uncapped(), {{0.02, 16}, {0.04, 16}, {0.16, 8}}), 1e-5);
@@ -134,17 +155,8 @@ TEST(LayerStack, PerLayerTimesLeaveTheMapUnchangedAndSumToTheCallsTime) {
       }
       EXPECT_LE(sum, wall_ms * (1 + 1e-9)) << insertion;
     }
-    for (size_t i = 0; i < plain.size(); ++i) {
-      const RollingGrid& g = plain.layer(i).grid();
-      for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
-        for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
-          const Moments a = plain.layer(i).cell_moments(ix, iy), b = timed.layer(i).cell_moments(ix, iy);
-          ASSERT_EQ(a.w, b.w);
-          ASSERT_EQ(a.mz, b.mz);
-          ASSERT_EQ(a.szz, b.szz);
-          ASSERT_EQ(a.sxz, b.sxz);
-        }
-    }
+    for (size_t i = 0; i < plain.size(); ++i)
+      expect_identical_cells(plain.layer(i), timed.layer(i), insertion + " layer " + std::to_string(i));
   }
 }
 
@@ -174,24 +186,9 @@ TEST(LayerStack, EachLayerOfAMixedStackEqualsTheSameLayerAlone) {
     }
     EXPECT_EQ(mixed.insert(points), updates);
   }
-  for (size_t i = 0; i < mixed.size(); ++i) {
-    const RollingGrid& g = mixed.layer(i).grid();
-    int observed = 0;
-    for (CellIndex iy = g.origin_y(); iy < g.origin_y() + g.size(); ++iy)
-      for (CellIndex ix = g.origin_x(); ix < g.origin_x() + g.size(); ++ix) {
-        const Moments a = mixed.layer(i).cell_moments(ix, iy);
-        const Moments b = alone[i]->layer(0).cell_moments(ix, iy);
-        observed += !a.empty();
-        ASSERT_EQ(a.empty(), b.empty()) << "layer " << i;
-        if (a.empty()) continue;
-        ASSERT_EQ(a.w, b.w) << "layer " << i;
-        ASSERT_EQ(a.mz, b.mz) << "layer " << i;
-        ASSERT_EQ(a.szz, b.szz) << "layer " << i;
-        ASSERT_EQ(a.mx, b.mx) << "layer " << i;
-        ASSERT_EQ(a.sxz, b.sxz) << "layer " << i;
-      }
-    EXPECT_GT(observed, 30) << "layer " << i;
-  }
+  for (size_t i = 0; i < mixed.size(); ++i)
+    EXPECT_GT(expect_identical_cells(mixed.layer(i), alone[i]->layer(0), "layer " + std::to_string(i)), 30)
+        << "layer " << i;
 }
 
 TEST(LayerStack, MixedFamiliesNeedAllLayers) {

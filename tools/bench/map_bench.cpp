@@ -132,7 +132,9 @@ void BM_FlightStackFrame(benchmark::State& s) {
 /// The flight stack without its Kalman layer: the difference to BM_FlightStack is the
 /// Kalman layer's marginal cost inside the stack (the shared chunk conversion excluded).
 void BM_FlightStackCcmOnly(benchmark::State& s) {
-  run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}, {RuleKind::ccm, 0.16, 64}, {RuleKind::ccm, 0.64, 16}}));
+  MapConfig map = flight_stack();
+  map.layers.erase(map.layers.begin());
+  run_insert(s, map);
 }
 /// Thesis CCM stack (Table 7.4) in both insertion modes.
 void BM_ThesisCcmAllLayers(benchmark::State& s) {
