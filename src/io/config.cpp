@@ -64,6 +64,7 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   }
   m.get("z_min", s.z_min_m);
   m.get("z_max", s.z_max_m);
+  m.get("max_below_ground", s.max_below_ground_m);
   m.finish();
 }
 
@@ -93,6 +94,7 @@ void parse_map(YamlMap m, MapConfig& map) {
                    : rule == "kalman" ? RuleKind::kalman
                    : rule == "omg"    ? RuleKind::omg
                                       : RuleKind::ccm;
+      l.get("max_std_ratio", layer.max_std_ratio);
       YamlMap h = l.child("hazard");
       h.get("kernel", layer.hazard.kernel);
       h.get("roughness_threshold", layer.hazard.roughness_threshold_m);
@@ -111,12 +113,14 @@ void parse_rules(YamlMap m, RulesConfig& r) {
     YamlMap k = m.child("kalman");
     k.get("time_inflation", r.kalman.time_inflation_m2);
     k.get("min_variance", r.kalman.min_variance_m2);
+    k.get("gate_sigma", r.kalman.gate_sigma);
     k.finish();
   }
   {
     YamlMap o = m.child("omg");
     o.get("max_weight", r.omg.max_weight);
     o.get("decay", r.omg.decay);
+    o.get("gate_sigma", r.omg.gate_sigma);
     o.finish();
   }
   {
@@ -137,6 +141,10 @@ void parse_hazard(YamlMap m, HazardConfig& h) {
   m.get("max_slope_deg", h.max_slope_deg);
   m.get("wheelbase", h.wheelbase_m);
   m.get("min_kernel_fill", h.min_kernel_fill);
+  m.get("k_sigma", h.k_sigma);
+  m.get("critical_height", h.critical_height_m);
+  m.get("footprint_radius", h.footprint_radius_m);
+  m.get("fused_extent", h.fused_extent_m);
   m.finish();
 }
 
@@ -232,6 +240,7 @@ void validate(const Config& c) {
     if (!(l.resolution_m > 0)) invalid(k + ".resolution", "must be > 0");
     if (l.size < 2 || l.size % 2 != 0) invalid(k + ".size", "must be even and >= 2");
     if (l.size > 100000) invalid(k + ".size", "is implausibly large");
+    if (!std::isfinite(l.max_std_ratio)) invalid(k + ".max_std_ratio", "must be finite");
     if (l.hazard.kernel < 1 || l.hazard.kernel % 2 == 0 || l.hazard.kernel >= l.size)
       invalid(k + ".hazard.kernel", "must be odd, >= 1 and smaller than the layer size");
     if (i > 0) {
@@ -258,6 +267,8 @@ void validate(const Config& c) {
   }
   if (c.rules.kalman.time_inflation_m2 < 0) invalid("rules.kalman.time_inflation", "must be >= 0");
   if (c.rules.kalman.min_variance_m2 < 0) invalid("rules.kalman.min_variance", "must be >= 0");
+  if (!(c.rules.kalman.gate_sigma >= 0)) invalid("rules.kalman.gate_sigma", "must be >= 0");
+  if (!(c.rules.omg.gate_sigma >= 0)) invalid("rules.omg.gate_sigma", "must be >= 0");
   if (!(c.rules.omg.max_weight > 0)) invalid("rules.omg.max_weight", "must be > 0");
   if (!(c.rules.omg.decay > 0 && c.rules.omg.decay <= 1)) invalid("rules.omg.decay", "must be in (0, 1]");
   if (!(c.rules.ccm.max_weight > 0)) invalid("rules.ccm.max_weight", "must be > 0");
@@ -269,6 +280,15 @@ void validate(const Config& c) {
   if (!(c.hazard.wheelbase_m > 0)) invalid("hazard.wheelbase", "must be > 0");
   if (!(c.hazard.min_kernel_fill >= 0 && c.hazard.min_kernel_fill <= 1))
     invalid("hazard.min_kernel_fill", "must be in [0, 1]");
+  if (!(c.hazard.k_sigma >= 0 && c.hazard.k_sigma <= 100)) invalid("hazard.k_sigma", "must be in [0, 100]");
+  if (!std::isfinite(c.hazard.critical_height_m) || c.hazard.critical_height_m == 0)
+    invalid("hazard.critical_height", "must be > 0 (or < 0 to use the finest layer's h_min)");
+  if (!std::isfinite(c.hazard.footprint_radius_m))
+    invalid("hazard.footprint_radius", "must be finite (< 0: wheelbase / 2)");
+  if (!(c.hazard.fused_extent_m >= 0 && c.hazard.fused_extent_m < 1e4))
+    invalid("hazard.fused_extent", "must be in [0, 1e4) m (0: the largest layer's extent)");
+  if (!std::isfinite(c.stereo.max_below_ground_m))
+    invalid("stereo.max_below_ground", "must be finite (<= 0 disables the check)");
   if (c.output.every_n < 1) invalid("output.every_n", "must be >= 1");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
@@ -300,7 +320,8 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "roi" << YAML::Value << YAML::Flow << YAML::BeginSeq << s.roi_px[0]
       << s.roi_px[1] << s.roi_px[2] << s.roi_px[3] << YAML::EndSeq
       << YAML::Key << "z_min" << YAML::Value << s.z_min_m
-      << YAML::Key << "z_max" << YAML::Value << s.z_max_m << YAML::EndMap;
+      << YAML::Key << "z_max" << YAML::Value << s.z_max_m
+      << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::BeginMap
       << YAML::Key << "model" << YAML::Value << c.sensor.model
       << YAML::Key << "pointing_error_px" << YAML::Value << c.sensor.pointing_error_px
@@ -314,6 +335,7 @@ std::string to_yaml(const Config& c) {
         << YAML::Key << "resolution" << YAML::Value << l.resolution_m
         << YAML::Key << "size" << YAML::Value << l.size
         << YAML::Key << "rule" << YAML::Value << rule_name(l.rule)
+        << YAML::Key << "max_std_ratio" << YAML::Value << l.max_std_ratio
         << YAML::Key << "hazard" << YAML::Value << YAML::BeginMap
         << YAML::Key << "kernel" << YAML::Value << l.hazard.kernel
         << YAML::Key << "roughness_threshold" << YAML::Value << l.hazard.roughness_threshold_m
@@ -326,10 +348,12 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "kalman" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "time_inflation" << YAML::Value << c.rules.kalman.time_inflation_m2
       << YAML::Key << "min_variance" << YAML::Value << c.rules.kalman.min_variance_m2
+      << YAML::Key << "gate_sigma" << YAML::Value << c.rules.kalman.gate_sigma
       << YAML::EndMap
       << YAML::Key << "omg" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "max_weight" << YAML::Value << c.rules.omg.max_weight
-      << YAML::Key << "decay" << YAML::Value << c.rules.omg.decay << YAML::EndMap
+      << YAML::Key << "decay" << YAML::Value << c.rules.omg.decay
+      << YAML::Key << "gate_sigma" << YAML::Value << c.rules.omg.gate_sigma << YAML::EndMap
       << YAML::Key << "ccm" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "weighting" << YAML::Value << c.rules.ccm.weighting
       << YAML::Key << "full_plane" << YAML::Value << c.rules.ccm.full_plane
@@ -342,6 +366,10 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "max_slope_deg" << YAML::Value << c.hazard.max_slope_deg
       << YAML::Key << "wheelbase" << YAML::Value << c.hazard.wheelbase_m
       << YAML::Key << "min_kernel_fill" << YAML::Value << c.hazard.min_kernel_fill
+      << YAML::Key << "k_sigma" << YAML::Value << c.hazard.k_sigma
+      << YAML::Key << "critical_height" << YAML::Value << c.hazard.critical_height_m
+      << YAML::Key << "footprint_radius" << YAML::Value << c.hazard.footprint_radius_m
+      << YAML::Key << "fused_extent" << YAML::Value << c.hazard.fused_extent_m
       << YAML::EndMap;
   out << YAML::Key << "pose_uncertainty" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "enabled" << YAML::Value << c.pose_uncertainty.enabled << YAML::EndMap;

@@ -38,6 +38,9 @@ struct StereoConfig {
   std::array<int, 4> roi_px{0, 0, 0, 0};
   double z_min_m = 0.05;
   double z_max_m = 10.0;
+  /// SPEC 3.3: points farther than this below the body's wheel plane (z_B = 0) are
+  /// mismatches and are dropped (counted); <= 0 disables the check.
+  double max_below_ground_m = 0.5;
 };
 
 struct SensorConfig {
@@ -52,7 +55,9 @@ const char* rule_name(RuleKind kind);
 struct LayerHazardConfig {
   int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
   double roughness_threshold_m = -1; ///< < 0: derived as (kernel - 1) r tan(max_slope)
-  double h_min_m = -1;               ///< smallest obstacle height (CCM layers); < 0: 0.75 r
+  /// Smallest obstacle the layer vouches for (SPEC 8.1-8.4); < 0: derived (CCM 0.75 r,
+  /// piecewise constant: its roughness threshold).
+  double h_min_m = -1;
   double rho_max_m2 = -1;            ///< CCM roughness threshold; < 0: h_min^2 / 16
 };
 
@@ -60,6 +65,9 @@ struct LayerConfig {
   double resolution_m = 0.01;
   int size = 128;  ///< cells per side, even
   RuleKind rule = RuleKind::kalman;
+  /// SPEC 4 gating: drop points whose lateral std exceeds max_std_ratio * r / sqrt(12);
+  /// 0 off, < 0: rules.ccm.max_std_ratio.
+  double max_std_ratio = -1;
   LayerHazardConfig hazard;
 };
 
@@ -71,6 +79,7 @@ struct MapConfig {
 struct OmgConfig {
   double max_weight = 1.0e7;
   double decay = 1.0;
+  double gate_sigma = 0.0;  ///< SPEC 4 consistency gate (0 = off)
 };
 
 struct CcmConfig {
@@ -92,6 +101,10 @@ struct HazardConfig {
   double max_slope_deg = 20.0;
   double wheelbase_m = 0.30;
   double min_kernel_fill = 0.5;  ///< fraction of kernel cells that must be observed
+  double k_sigma = 3.0;          ///< SPEC 8: hazard when s - k sigma > T, traversable when s + k sigma <= T
+  double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
+  double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
+  double fused_extent_m = 0;     ///< side of the fused/footprint maps; 0: the largest layer's
 };
 
 struct PoseUncertaintyConfig {

@@ -44,6 +44,7 @@ struct KalmanRule {
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
     double min_variance_m2 = 1.0e-6;    ///< convergence floor [m^2]
+    double gate_sigma = 0.0;            ///< SPEC 4 consistency gate (0 = off)
   };
 
   /// precision 0 marks a cell that has never been observed.

@@ -1,0 +1,56 @@
+#pragma once
+// Every derived hazard parameter of a run, resolved once from the configuration
+// (SPEC 8): each layer's h_min, roughness threshold and kernel, CCM thresholds, the
+// fused map's critical height and the footprint radius. Pipeline, outputs and
+// evaluation read them from here instead of re-deriving them.
+
+#include <string>
+#include <vector>
+
+#include "hazmap/io/config.hpp"
+
+namespace hazmap {
+
+/// Which family of hazard tests a layer's rule supports.
+enum class HazardFamily {
+  piecewise_constant,  ///< Bananas, Kalman, OMG: roughness kernel (SPEC 8.1)
+  plane,               ///< CCM: plane tests (SPEC 8.2)
+};
+
+HazardFamily hazard_family(RuleKind rule);
+
+struct LayerHazardParams {
+  HazardFamily family = HazardFamily::piecewise_constant;
+  double resolution_m = 0.01;
+  double h_min_m = 0.03;         ///< smallest obstacle this layer vouches for
+  std::string h_min_source;      ///< how h_min was obtained ("hazard.h_min", "0.75 r", ...)
+  double k_sigma = 3.0;
+  double max_slope_rad = 0.349;
+  double wheelbase_m = 0.30;
+  /// Ring tests (vehicle slope, step above the ring; SPEC 8.2-8.3) apply to cells
+  /// smaller than the wheelbase.
+  bool ring_tests = true;
+  // Piecewise constant (SPEC 8.1)
+  int kernel = 5;
+  double roughness_threshold_m = 0.025;
+  double min_kernel_fill = 0.5;
+  // CCM (SPEC 8.2)
+  double rho_max_m2 = 5.6e-5;
+  double tan_face = 0.75;        ///< tan of the rock-face inclination, h_min / r
+  int min_points = 10;
+  /// Points a CCM cell's statistics can count on at most (its weight cap, for constant
+  /// weights: older points are discounted beyond it); infinity otherwise.
+  double max_effective_count = 1e300;
+};
+
+struct HazardParams {
+  std::vector<LayerHazardParams> layers;  ///< finest first
+  double critical_height_m = 0.03;        ///< SPEC 8.4
+  double footprint_radius_m = 0.15;       ///< SPEC 8.5
+  double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
+};
+
+LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& config);
+HazardParams resolve_hazard_params(const Config& config);
+
+}  // namespace hazmap

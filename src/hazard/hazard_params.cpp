@@ -1,0 +1,61 @@
+#include "hazmap/hazard/hazard_params.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hazmap {
+
+HazardFamily hazard_family(RuleKind rule) {
+  return rule == RuleKind::ccm ? HazardFamily::plane : HazardFamily::piecewise_constant;
+}
+
+LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& config) {
+  const HazardConfig& hz = config.hazard;
+  LayerHazardParams p;
+  p.family = hazard_family(layer.rule);
+  p.resolution_m = layer.resolution_m;
+  p.k_sigma = hz.k_sigma;
+  p.max_slope_rad = hz.max_slope_deg * M_PI / 180.0;
+  p.wheelbase_m = hz.wheelbase_m;
+  p.ring_tests = layer.resolution_m < hz.wheelbase_m;
+  p.kernel = layer.hazard.kernel;
+  p.min_kernel_fill = hz.min_kernel_fill;
+  // SPEC 8.1: cell heights sit at cell centres, (D - 1) r apart across the kernel.
+  p.roughness_threshold_m = layer.hazard.roughness_threshold_m >= 0
+                                ? layer.hazard.roughness_threshold_m
+                                : (p.kernel - 1) * layer.resolution_m * std::tan(p.max_slope_rad);
+  if (layer.hazard.h_min_m > 0) {
+    p.h_min_m = layer.hazard.h_min_m;
+    p.h_min_source = "hazard.h_min";
+  } else if (p.family == HazardFamily::plane) {
+    p.h_min_m = 0.75 * layer.resolution_m;
+    p.h_min_source = "0.75 r";
+  } else {
+    p.h_min_m = p.roughness_threshold_m;
+    p.h_min_source = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
+                                                              : "derived roughness threshold";
+  }
+  p.rho_max_m2 = layer.hazard.rho_max_m2 > 0 ? layer.hazard.rho_max_m2 : p.h_min_m * p.h_min_m / 16.0;
+  p.tan_face = p.h_min_m / layer.resolution_m;
+  p.min_points = config.rules.ccm.min_points;
+  p.max_effective_count = config.rules.ccm.weighting == "constant" ? config.rules.ccm.max_weight : 1e300;
+  return p;
+}
+
+HazardParams resolve_hazard_params(const Config& config) {
+  HazardParams p;
+  double largest = 0.0;
+  for (const LayerConfig& layer : config.map.layers) {
+    p.layers.push_back(resolve_layer_hazard(layer, config));
+    largest = std::max(largest, layer.size * layer.resolution_m);
+  }
+  p.critical_height_m = config.hazard.critical_height_m > 0 ? config.hazard.critical_height_m
+                        : p.layers.empty()                   ? 0.0
+                                                             : p.layers.front().h_min_m;
+  p.footprint_radius_m = config.hazard.footprint_radius_m >= 0 ? config.hazard.footprint_radius_m
+                                                               : config.hazard.wheelbase_m / 2.0;
+  p.fused_extent_m = config.hazard.fused_extent_m > 0 ? config.hazard.fused_extent_m : largest;
+  return p;
+}
+
+}  // namespace hazmap
