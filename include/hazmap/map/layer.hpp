@@ -19,14 +19,27 @@ namespace hazmap {
 /// Plane grids (slope, roughness, coverage, evaluable) are filled by CCM layers only and
 /// left empty (rows = 0) otherwise.
 struct LayerGrids {
-  DenseGrid height;     ///< at the cell centre [m] (CCM: its plane there); NaN unknown
-  DenseGrid variance;   ///< height variance [m^2], inflated by pose uncertainty if enabled
+  /// At the cell centre [m]; NaN unknown. CCM: its plane there when evaluable, else mu_z
+  /// (SPEC 6.4).
+  DenseGrid height;
+  /// Height variance [m^2], inflated by pose uncertainty if enabled. Bananas: the sensor
+  /// variance of the cell's last point; CCM: Szz/W, plus (r^2/12) tan^2(max_slope) on
+  /// cells that are not evaluable (the tilt nobody measured, SPEC 6.4).
+  DenseGrid variance;
   DenseGrid count;      ///< points behind the cell
-  DenseGrid slope_x;    ///< dz/dx of the cell plane
+  DenseGrid slope_x;    ///< dz/dx of the cell plane; NaN when not evaluable
   DenseGrid slope_y;    ///< dz/dy
   DenseGrid roughness;  ///< plane-normal variance rho [m^2]
   DenseGrid coverage;   ///< kappa
   DenseGrid evaluable;  ///< 1 evaluable, 0 not
+  /// Mean measurement height variance Sigma_W(2,2) of the cell's points [m^2] (weighted
+  /// like the points): the part of rho that is sensor noise (SPEC 8.2).
+  DenseGrid noise_variance;
+  /// Lateral covariance of the cell's points, S/W [m^2]: how well x and y are spread,
+  /// for the uncertainty of the slopes.
+  DenseGrid lateral_xx;
+  DenseGrid lateral_yy;
+  DenseGrid lateral_xy;
 };
 
 /// Per-parent-cell pooled moments of a finer layer (finest_then_pool), indexed by the
