@@ -15,6 +15,7 @@
 #include "../pipeline/json_writer.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
+#include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
@@ -36,7 +37,9 @@ double layer_h_min(const LayerConfig& layer, const HazardConfig& hazard, std::st
     h = 0.75 * layer.resolution_m;
     how = "0.75 r";
   } else {
-    h = roughness_params(layer, hazard).threshold_m;
+    Config c;
+    c.hazard = hazard;
+    h = resolve_layer_hazard(layer, c).roughness_threshold_m;
     how = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
                                                    : "derived roughness threshold";
   }

@@ -12,8 +12,10 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 /// Sliding max (sign = +1) or min (sign = -1) over windows [c - w, c + w] of one row;
-/// NaN entries are skipped. Result -inf/+inf where a window holds no value.
-void sliding_extreme(const float* in, int n, int w, float sign, float* out, std::vector<int>& dq) {
+/// NaN entries are skipped. Result -inf/+inf where a window holds no value; `out_var`
+/// gets the variance of the extreme cell.
+void sliding_extreme(const float* in, const float* var, int n, int w, float sign, float* out,
+                     float* out_var, std::vector<int>& dq) {
   dq.resize(static_cast<size_t>(n));
   int head = 0, tail = 0;
   // Window for output c is [c - w, c + w]; push index j = c + w as c advances.
@@ -28,6 +30,7 @@ void sliding_extreme(const float* in, int n, int w, float sign, float* out, std:
     }
     while (tail > head && dq[head] < c - w) ++head;
     out[c] = tail > head ? in[dq[head]] : -sign * kInf;
+    out_var[c] = tail > head ? var[dq[head]] : 0.0f;
   }
 }
 
@@ -43,8 +46,8 @@ std::vector<int> kernel_half_widths(int kernel) {
   return widths;
 }
 
-void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& roughness,
-                              DenseGrid& fill) {
+void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
+                              DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill) {
   if (kernel != kernel_) {  // allocation only when the kernel changes, not per frame
     widths_ = kernel_half_widths(kernel);
     kernel_ = kernel;
@@ -56,6 +59,7 @@ void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& ro
   const int rows = height.rows, cols = height.cols;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   roughness.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
+  sigma.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
   fill.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, 0.0f);
 
   // Per distinct half-width w: sliding max/min/count of every row over [c - w, c + w].
@@ -64,6 +68,8 @@ void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& ro
   row_max_.resize(plane * (max_w + 1));
   row_min_.resize(plane * (max_w + 1));
   row_count_.resize(plane * (max_w + 1));
+  row_max_var_.resize(plane * (max_w + 1));
+  row_min_var_.resize(plane * (max_w + 1));
   int kernel_cells = 0;
   for (int w : widths) kernel_cells += 2 * w + 1;
 
@@ -71,9 +77,10 @@ void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& ro
     if (!width_used_[static_cast<size_t>(w)]) continue;
     for (int r = 0; r < rows; ++r) {
       const float* in = &height.values[static_cast<size_t>(r) * cols];
+      const float* var = &variance.values[static_cast<size_t>(r) * cols];
       const size_t off = plane * w + static_cast<size_t>(r) * cols;
-      sliding_extreme(in, cols, w, +1.0f, &row_max_[off], deque_);
-      sliding_extreme(in, cols, w, -1.0f, &row_min_[off], deque_);
+      sliding_extreme(in, var, cols, w, +1.0f, &row_max_[off], &row_max_var_[off], deque_);
+      sliding_extreme(in, var, cols, w, -1.0f, &row_min_[off], &row_min_var_[off], deque_);
       // Observed count by a running window sum.
       int count = 0;
       for (int c = 0; c <= std::min(cols - 1, w); ++c) count += !std::isnan(in[c]);
@@ -88,60 +95,55 @@ void RoughnessFilter::compute(const DenseGrid& height, int kernel, DenseGrid& ro
 
   for (int r = half; r < rows - half; ++r) {
     for (int c = half; c < cols - half; ++c) {
-      float hi = -kInf, lo = kInf, count = 0;
+      float hi = -kInf, lo = kInf, count = 0, hi_var = 0, lo_var = 0;
       for (int k = 0; k < kernel; ++k) {
         const size_t idx = plane * widths[k] + static_cast<size_t>(r + k - half) * cols + c;
-        hi = std::max(hi, row_max_[idx]);
-        lo = std::min(lo, row_min_[idx]);
+        if (row_max_[idx] > hi) hi = row_max_[idx], hi_var = row_max_var_[idx];
+        if (row_min_[idx] < lo) lo = row_min_[idx], lo_var = row_min_var_[idx];
         count += row_count_[idx];
       }
       fill.at(r, c) = count / static_cast<float>(kernel_cells);
-      if (count > 0) roughness.at(r, c) = hi - lo;
+      if (count > 0) {
+        roughness.at(r, c) = hi - lo;
+        sigma.at(r, c) = std::sqrt(hi_var + lo_var);
+      }
     }
   }
 }
 
-void roughness_brute_force(const DenseGrid& height, int kernel, DenseGrid& roughness,
-                           DenseGrid& fill) {
+void roughness_brute_force(const DenseGrid& height, const DenseGrid& variance, int kernel,
+                           DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill) {
   const std::vector<int> widths = kernel_half_widths(kernel);
   const int half = (kernel - 1) / 2;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   roughness.reset(height.rows, height.cols, height.resolution_m, height.center_x_m,
                   height.center_y_m, nan);
+  sigma.reset(height.rows, height.cols, height.resolution_m, height.center_x_m,
+              height.center_y_m, nan);
   fill.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m,
              0.0f);
   int kernel_cells = 0;
   for (int w : widths) kernel_cells += 2 * w + 1;
   for (int r = half; r < height.rows - half; ++r) {
     for (int c = half; c < height.cols - half; ++c) {
-      float hi = -kInf, lo = kInf;
+      float hi = -kInf, lo = kInf, hi_var = 0, lo_var = 0;
       int count = 0;
       for (int dy = -half; dy <= half; ++dy) {
         const int w = widths[dy + half];
         for (int dx = -w; dx <= w; ++dx) {
           const float v = height.at(r + dy, c + dx);
           if (std::isnan(v)) continue;
-          hi = std::max(hi, v);
-          lo = std::min(lo, v);
+          if (v > hi) hi = v, hi_var = variance.at(r + dy, c + dx);
+          if (v < lo) lo = v, lo_var = variance.at(r + dy, c + dx);
           ++count;
         }
       }
       fill.at(r, c) = static_cast<float>(count) / static_cast<float>(kernel_cells);
-      if (count > 0) roughness.at(r, c) = hi - lo;
+      if (count > 0) {
+        roughness.at(r, c) = hi - lo;
+        sigma.at(r, c) = std::sqrt(hi_var + lo_var);
+      }
     }
-  }
-}
-
-void classify_roughness(const DenseGrid& height, const DenseGrid& roughness,
-                        const DenseGrid& fill, const RoughnessParams& params, DenseGrid& hazard) {
-  hazard.reset(height.rows, height.cols, height.resolution_m, height.center_x_m,
-               height.center_y_m, static_cast<float>(HazardClass::unknown));
-  for (size_t i = 0; i < height.values.size(); ++i) {
-    if (std::isnan(height.values[i]) || std::isnan(roughness.values[i])) continue;
-    if (fill.values[i] < params.min_fill) continue;
-    hazard.values[i] = static_cast<float>(roughness.values[i] > params.threshold_m
-                                              ? HazardClass::hazard
-                                              : HazardClass::traversable);
   }
 }
 

@@ -170,6 +170,8 @@ cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std:
   }
   place(render_hazard(pipeline.fused_hazard(), kTile, robot_x_m, robot_y_m), columns - 1, 0,
         "fused hazard");
+  place(render_hazard(pipeline.planner_maps().footprint, kTile, robot_x_m, robot_y_m), columns - 1,
+        1, "footprint");
   return canvas;
 }
 
@@ -196,13 +198,21 @@ void write_frame_outputs(const std::filesystem::path& dir, const std::string& fr
       }
     }
   }
-  if (output.png)
-    write_png(dir / "fused_hazard.png",
-              render_hazard(pipeline.fused_hazard(), output.png_min_size, rx, ry));
-  if (output.jdem)
-    write_jdem(dir / "fused_hazard.jdem",
-               to_jdem(pipeline.fused_hazard(), "hazard",
-                       "class", frame_name));
+  const PlannerMaps& planner = pipeline.planner_maps();
+  if (output.png) {
+    write_png(dir / "fused_hazard.png", render_hazard(planner.fused, output.png_min_size, rx, ry));
+    write_png(dir / "footprint_hazard.png",
+              render_hazard(planner.footprint, output.png_min_size, rx, ry));
+  }
+  if (output.jdem) {
+    write_jdem(dir / "fused_hazard.jdem", to_jdem(planner.fused, "hazard", "class", frame_name));
+    write_jdem(dir / "fused_clearance.jdem",
+               to_jdem(planner.clearance, "clearance", "m", frame_name));
+    write_jdem(dir / "footprint_hazard.jdem",
+               to_jdem(planner.footprint, "hazard", "class", frame_name));
+    write_jdem(dir / "hazard_distance.jdem",
+               to_jdem(planner.hazard_distance, "distance", "m", frame_name));
+  }
 }
 
 }  // namespace hazmap

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-#include "hazmap/hazard/fused_hazard.hpp"
 
 namespace hazmap {
 namespace {
@@ -16,45 +15,18 @@ double ms_since(Clock::time_point start) {
 
 }  // namespace
 
-RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& hazard) {
-  RoughnessParams p;
-  p.kernel = layer.hazard.kernel;
-  p.min_fill = hazard.min_kernel_fill;
-  p.threshold_m = layer.hazard.roughness_threshold_m >= 0
-                      ? layer.hazard.roughness_threshold_m
-                      : (p.kernel - 1) * layer.resolution_m *
-                            std::tan(hazard.max_slope_deg * M_PI / 180.0);
-  return p;
-}
-
-CcmHazardParams ccm_params(const LayerConfig& layer, const HazardConfig& hazard) {
-  const double h_min = layer.hazard.h_min_m > 0 ? layer.hazard.h_min_m : 0.75 * layer.resolution_m;
-  return ccm_hazard_params(layer.resolution_m, h_min, layer.hazard.rho_max_m2,
-                           hazard.max_slope_deg, hazard.wheelbase_m);
-}
-
-void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmHazardParams& ccm,
-                    RoughnessFilter& filter, LayerView& view) {
-  if (has_plane) {
-    classify_ccm(view.map, ccm, view.hazard);
-    return;
-  }
-  filter.compute(view.map.height, roughness.kernel, view.kernel_range, view.kernel_fill);
-  classify_roughness(view.map.height, view.kernel_range, view.kernel_fill, roughness, view.hazard);
-}
-
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(config),
       front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
       map_(config.map, config.rules, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       layer_map_ms_(config.map.layers.size(), 0.0),
+      hazard_params_(resolve_hazard_params(config)),
       views_(config.map.layers.size()) {
-  for (const auto& layer : config.map.layers) {
-    roughness_params_.push_back(roughness_params(layer, config.hazard));
-    ccm_params_.push_back(ccm_params(layer, config.hazard));
+  for (size_t i = 0; i < views_.size(); ++i) {
+    classifiers_.push_back(make_hazard_classifier(hazard_params_.layers[i]));
+    fusion_inputs_.push_back({&views_[i].hazard, hazard_params_.layers[i].h_min_m});
   }
-  for (const auto& view : views_) hazard_ptrs_.push_back(&view.hazard);
 }
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
@@ -84,10 +56,16 @@ void Pipeline::analyse_hazards() {
   for (size_t i = 0; i < map_.size(); ++i) {
     LayerView& view = views_[i];
     map_.export_layer(i, view.map);
-    classify_layer(map_.layer(i).has_plane(), roughness_params_[i], ccm_params_[i], roughness_,
-                   view);
+    classifiers_[i]->classify(view.map, view.hazard, view.diagnostics);
   }
-  fuse_hazards(hazard_ptrs_, fused_);
+  // The planner's maps are centred like the finest layer, which shares its cell borders.
+  const DenseGrid& finest = views_.front().hazard;
+  fusion_.fuse(fusion_inputs_, hazard_params_.critical_height_m,
+               fused_cells(hazard_params_.fused_extent_m, finest.resolution_m),
+               finest.resolution_m, finest.center_x_m, finest.center_y_m, planner_.fused,
+               planner_.clearance);
+  fusion_.footprint(planner_.fused, hazard_params_.footprint_radius_m, planner_.footprint,
+                    planner_.hazard_distance);
 }
 
 }  // namespace hazmap

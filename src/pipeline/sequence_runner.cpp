@@ -23,7 +23,7 @@ struct FrameRecord {
   double read_ms = 0, write_ms = 0;
   StageTimes ms;
   bool written = false;
-  std::vector<HazardAreas> areas;  ///< per layer, then fused (written frames only)
+  std::vector<HazardAreas> areas;  ///< per layer, then fused, footprint (written frames only)
   std::vector<double> layer_map_ms;  ///< each layer's share of the insertion
 };
 
@@ -97,7 +97,10 @@ void write_summary(const std::filesystem::path& path, const Config& config,
       j.key("areas_m2").begin_array();
       for (size_t i = 0; i < f.areas.size(); ++i) {
         j.begin_object();
-        j.key("layer").value(i + 1 == f.areas.size() ? std::string("fused") : "L" + std::to_string(i));
+        const size_t layers = f.areas.size() - 2;  // then the fused and footprint maps
+        j.key("layer").value(i < layers        ? "L" + std::to_string(i)
+                             : i == layers ? std::string("fused")
+                                           : std::string("footprint"));
         j.key("hazard").value(f.areas[i].hazard_m2);
         j.key("traversable").value(f.areas[i].traversable_m2);
         j.key("unknown").value(f.areas[i].unknown_m2);
@@ -161,7 +164,8 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
                   render_mosaic(pipeline, config.map, frame.name, p.x(), p.y()));
       }
       for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
-      rec.areas.push_back(hazard_areas(pipeline.fused_hazard()));
+      rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
+      rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
       rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
       rec.written = true;
       result.written.push_back(dir);

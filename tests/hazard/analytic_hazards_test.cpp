@@ -53,12 +53,11 @@ std::vector<LayerView> map_surface(const Config& config, const Surface& h, doubl
   stack.begin_frame(0.001, 0.001);
   stack.insert(MapPoints(cloud));
   std::vector<LayerView> views(stack.size());
-  RoughnessFilter filter;
+  const HazardParams params = resolve_hazard_params(config);
   for (size_t i = 0; i < stack.size(); ++i) {
     stack.export_layer(i, views[i].map);
-    classify_layer(stack.layer(i).has_plane(),
-                   roughness_params(config.map.layers[i], config.hazard),
-                   ccm_params(config.map.layers[i], config.hazard), filter, views[i]);
+    make_hazard_classifier(params.layers[i])
+        ->classify(views[i].map, views[i].hazard, views[i].diagnostics);
   }
   return views;
 }

@@ -1,35 +1,110 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 
+#include <cmath>
+#include <random>
+
 #include <gtest/gtest.h>
 
 namespace hazmap {
 namespace {
 
-TEST(FusedHazard, HazardWinsThenKnowledgeThenUnknown) {
-  // Fine 4 x 4 at 1 m and coarse 2 x 2 at 2 m, both centred on the origin.
-  DenseGrid fine, coarse, fused;
-  fine.reset(4, 4, 1.0, 0, 0, float(HazardClass::unknown));
-  coarse.reset(2, 2, 2.0, 0, 0, float(HazardClass::unknown));
-  fine.at(0, 0) = float(HazardClass::traversable);
-  fine.at(0, 1) = float(HazardClass::hazard);
-  coarse.at(0, 0) = float(HazardClass::traversable);  // covers fine rows 0-1, cols 0-1
-  coarse.at(1, 1) = float(HazardClass::hazard);       // covers fine rows 2-3, cols 2-3
-  fine.at(3, 3) = float(HazardClass::traversable);    // coarse says hazard: hazard wins
-  fuse_hazards({&fine, &coarse}, fused);
-  EXPECT_EQ(fused.at(0, 0), float(HazardClass::traversable));
-  EXPECT_EQ(fused.at(0, 1), float(HazardClass::hazard));
-  EXPECT_EQ(fused.at(1, 0), float(HazardClass::traversable));  // only the coarse layer knows
-  EXPECT_EQ(fused.at(0, 2), float(HazardClass::unknown));
-  EXPECT_EQ(fused.at(2, 2), float(HazardClass::hazard));
-  EXPECT_EQ(fused.at(3, 3), float(HazardClass::hazard));
+constexpr float kU = float(HazardClass::unknown), kT = float(HazardClass::traversable),
+                kH = float(HazardClass::hazard);
+
+TEST(FusedHazard, HazardFromAnyLayerTraversableOnlyFromLayersFineEnoughForCriticalHeight) {
+  // Fine 4 x 4 at 1 m (h_min 3 cm) and coarse 2 x 2 at 2 m (h_min 12 cm), centred on 0.
+  DenseGrid fine, coarse, fused, clearance;
+  fine.reset(4, 4, 1.0, 0, 0, kU);
+  coarse.reset(2, 2, 2.0, 0, 0, kU);
+  fine.at(0, 0) = kT;
+  fine.at(0, 1) = kH;
+  coarse.at(0, 0) = kT;  // covers fine rows 0-1, cols 0-1
+  coarse.at(1, 1) = kH;  // covers fine rows 2-3, cols 2-3
+  fine.at(3, 3) = kT;    // coarse says hazard: hazard wins
+  HazardFusion fusion;
+  fusion.fuse({{&fine, 0.03}, {&coarse, 0.12}}, 0.03, 4, 1.0, 0, 0, fused, clearance);
+  EXPECT_EQ(fused.at(0, 0), kT);
+  EXPECT_FLOAT_EQ(clearance.at(0, 0), 0.03f);
+  EXPECT_EQ(fused.at(0, 1), kH);
+  EXPECT_TRUE(std::isnan(clearance.at(0, 1)));
+  // Only the coarse layer vouches: it cannot see a 3 cm rock, so unknown; its clearance
+  // says what could still hide there.
+  EXPECT_EQ(fused.at(1, 0), kU);
+  EXPECT_FLOAT_EQ(clearance.at(1, 0), 0.12f);
+  EXPECT_EQ(fused.at(0, 2), kU);
+  EXPECT_TRUE(std::isnan(clearance.at(0, 2)));
+  EXPECT_EQ(fused.at(2, 2), kH);
+  EXPECT_EQ(fused.at(3, 3), kH);
+  // A rover that must avoid only 12 cm obstacles may trust the coarse layer.
+  fusion.fuse({{&fine, 0.03}, {&coarse, 0.12}}, 0.12, 4, 1.0, 0, 0, fused, clearance);
+  EXPECT_EQ(fused.at(1, 0), kT);
 }
 
-TEST(FusedHazard, CoarseLayerCoversBeyondTheFineExtentOnlyWhereItIsDefined) {
-  DenseGrid fine, coarse, fused;
-  fine.reset(2, 2, 1.0, 10, 0, float(HazardClass::unknown));  // x in [9, 11]
-  coarse.reset(2, 2, 1.0, 0, 0, float(HazardClass::hazard));  // x in [-1, 1]: disjoint
-  fuse_hazards({&fine, &coarse}, fused);
-  for (float v : fused.values) EXPECT_EQ(v, float(HazardClass::unknown));
+TEST(FusedHazard, GridExtendsBeyondTheFinestLayerWhereCoarseLayersReach) {
+  DenseGrid fine, coarse, fused, clearance;
+  fine.reset(2, 2, 1.0, 0, 0, kT);      // x, y in [-1, 1]
+  coarse.reset(4, 4, 2.0, 0, 0, kH);    // x, y in [-4, 4]
+  coarse.at(1, 1) = kT;                 // [-2, 0] x [0, 2]: holds the fine layer's NW cell
+  coarse.at(1, 2) = kT;
+  coarse.at(2, 1) = kT;
+  coarse.at(2, 2) = kT;
+  HazardFusion fusion;
+  fusion.fuse({{&fine, 0.03}, {&coarse, 0.5}}, 0.03, 8, 1.0, 0, 0, fused, clearance);
+  ASSERT_EQ(fused.rows, 8);
+  EXPECT_EQ(fused.at(0, 0), kH);  // only the coarse layer, which says hazard
+  EXPECT_EQ(fused.at(3, 3), kT);  // the fine layer's cell
+  EXPECT_EQ(fused.at(2, 2), kU);  // coarse traversable, h_min too large
+  EXPECT_EQ(fused_cells(10.24, 0.01), 1024);
+  EXPECT_EQ(fused_cells(1.0, 0.3), 4);  // rounded to an even count
+}
+
+/// Brute force: nearest source cell centre by exhaustive search.
+double nearest(const std::vector<unsigned char>& src, int rows, int cols, int r, int c) {
+  double best = 1e30;
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j)
+      if (src[static_cast<size_t>(i) * cols + j]) best = std::min(best, double((i - r) * (i - r) + (j - c) * (j - c)));
+  return best;
+}
+
+TEST(DistanceTransform, EqualsBruteForceOnRandomSources) {
+  DistanceTransform edt;
+  std::vector<float> d2;
+  std::mt19937 rng(3);
+  for (const double density : {0.0, 0.002, 0.02, 0.3}) {
+    const int rows = 37, cols = 53;
+    std::vector<unsigned char> src(static_cast<size_t>(rows) * cols);
+    std::bernoulli_distribution b(density);
+    for (auto& s : src) s = b(rng);
+    edt.compute(src.data(), rows, cols, d2);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const double ref = nearest(src, rows, cols, r, c);
+        const float got = d2[static_cast<size_t>(r) * cols + c];
+        if (ref >= 1e29) ASSERT_GE(got, kNoSourceSquared) << r << "," << c;
+        else ASSERT_EQ(got, float(ref)) << "density " << density << " at " << r << "," << c;
+      }
+  }
+}
+
+TEST(Footprint, HazardWithinRadiusThenUnknownThenTraversableAndDistanceInMetres) {
+  // 40 x 40 at 1 cm, all traversable but one hazard cell and one unknown cell.
+  DenseGrid fused, footprint, distance;
+  fused.reset(40, 40, 0.01, 0, 0, kT);
+  fused.at(10, 10) = kH;
+  fused.at(30, 30) = kU;
+  HazardFusion fusion;
+  fusion.footprint(fused, 0.05, footprint, distance);
+  EXPECT_EQ(footprint.at(10, 15), kH);  // 5 cm away: inside the footprint
+  EXPECT_EQ(footprint.at(14, 13), kH);  // (4, 3): 5 cm
+  EXPECT_EQ(footprint.at(10, 16), kT);  // 6 cm
+  EXPECT_EQ(footprint.at(14, 14), kT);  // 5.66 cm
+  EXPECT_EQ(footprint.at(30, 26), kU);  // 4 cm from the unknown cell
+  EXPECT_EQ(footprint.at(2, 20), kU);   // the map's edge is 3 cm away: nothing known beyond
+  EXPECT_EQ(footprint.at(5, 20), kT);   // the edge is 6 cm away
+  EXPECT_NEAR(distance.at(14, 13), 0.05, 1e-6);
+  EXPECT_NEAR(distance.at(10, 10), 0.0, 1e-9);
+  EXPECT_NEAR(distance.at(39, 39), std::min(0.2, std::hypot(0.29, 0.29)), 1e-6);  // capped at half the side
 }
 
 }  // namespace

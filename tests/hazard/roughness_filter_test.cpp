@@ -1,5 +1,7 @@
 #include "hazmap/hazard/roughness_filter.hpp"
 
+#include "hazmap/hazard/hazard_classifier.hpp"
+
 #include <cmath>
 #include <random>
 
@@ -16,6 +18,45 @@ DenseGrid random_map(int rows, int cols, double unknown_fraction, unsigned seed)
   std::uniform_real_distribution<double> u(0, 1);
   for (auto& v : g.values) v = u(rng) < unknown_fraction ? NAN : h(rng);
   return g;
+}
+
+/// Random variances where the heights are known (NaN elsewhere), to check that the
+/// kernel's sigma comes from its extreme cells.
+DenseGrid random_variance(const DenseGrid& h, unsigned seed) {
+  DenseGrid v = h;
+  std::mt19937 rng(seed + 100);
+  std::uniform_real_distribution<float> u(1e-6f, 1e-4f);
+  for (auto& x : v.values) x = std::isnan(x) ? NAN : u(rng);
+  return v;
+}
+
+DenseGrid constant_like(const DenseGrid& h, float value) {
+  DenseGrid v = h;
+  for (auto& x : v.values) x = value;
+  return v;
+}
+
+/// Piecewise-constant layer parameters for the roughness test alone (no wheel ring).
+LayerHazardParams roughness_only(int kernel, double threshold_m, double min_fill, double k_sigma) {
+  LayerHazardParams p;
+  p.kernel = kernel;
+  p.roughness_threshold_m = threshold_m;
+  p.h_min_m = threshold_m;
+  p.min_kernel_fill = min_fill;
+  p.k_sigma = k_sigma;
+  p.ring_tests = false;
+  return p;
+}
+
+DenseGrid classify(const DenseGrid& h, const DenseGrid& var, const LayerHazardParams& p) {
+  LayerGrids grids;
+  grids.height = h;
+  grids.variance = var;
+  PiecewiseConstantClassifier classifier(p);
+  DenseGrid hazard;
+  HazardDiagnostics diag;
+  classifier.classify(grids, hazard, diag);
+  return hazard;
 }
 
 DenseGrid plane(int n, double r, double slope) {
@@ -40,14 +81,19 @@ TEST_P(RoughnessAgainstBruteForce, FastPathEqualsTheQuadraticReferenceExactly) {
   RoughnessFilter filter;
   for (unsigned seed = 0; seed < 5; ++seed) {
     const DenseGrid h = random_map(37, 41, 0.1 * seed, seed);
-    DenseGrid fast_r, fast_f, ref_r, ref_f;
-    filter.compute(h, kernel, fast_r, fast_f);
-    roughness_brute_force(h, kernel, ref_r, ref_f);
+    const DenseGrid var = random_variance(h, seed);
+    DenseGrid fast_r, fast_s, fast_f, ref_r, ref_s, ref_f;
+    filter.compute(h, var, kernel, fast_r, fast_s, fast_f);
+    roughness_brute_force(h, var, kernel, ref_r, ref_s, ref_f);
     for (size_t i = 0; i < h.values.size(); ++i) {
       if (std::isnan(ref_r.values[i])) {
         ASSERT_TRUE(std::isnan(fast_r.values[i])) << i;
+        ASSERT_TRUE(std::isnan(fast_s.values[i])) << i;
       } else {
         ASSERT_EQ(fast_r.values[i], ref_r.values[i]) << "seed " << seed << " cell " << i;
+        // Heights are continuous random values: the extreme cells are unique, so the
+        // sigma of both paths comes from the same two cells.
+        ASSERT_EQ(fast_s.values[i], ref_s.values[i]) << "seed " << seed << " cell " << i;
       }
       ASSERT_EQ(fast_f.values[i], ref_f.values[i]) << i;
     }
@@ -60,13 +106,11 @@ TEST(RoughnessFilter, PlaneBelowMaxSlopeIsTraversableAndBorderIsUnknown) {
   // Derived threshold (D - 1) r tan(20 deg): a 19 deg plane passes, a 21 deg one does not.
   const int n = 40, kernel = 7;
   const double r = 0.01;
-  RoughnessParams params{kernel, (kernel - 1) * r * std::tan(20 * M_PI / 180), 0.5};
-  RoughnessFilter filter;
+  const LayerHazardParams params =
+      roughness_only(kernel, (kernel - 1) * r * std::tan(20 * M_PI / 180), 0.5, 3.0);
   for (const double deg : {19.0, 21.0}) {
     const DenseGrid h = plane(n, r, std::tan(deg * M_PI / 180));
-    DenseGrid rough, fill, hazard;
-    filter.compute(h, kernel, rough, fill);
-    classify_roughness(h, rough, fill, params, hazard);
+    const DenseGrid hazard = classify(h, constant_like(h, 0.0f), params);
     for (int row = 0; row < n; ++row)
       for (int col = 0; col < n; ++col) {
         const bool border = row < 3 || col < 3 || row >= n - 3 || col >= n - 3;
@@ -85,10 +129,7 @@ TEST(RoughnessFilter, StepIsHazardOnlyWithinTheKernelRadius) {
   h.reset(n, n, 0.01, 0, 0, 0.0f);
   for (int row = 0; row < n; ++row)
     for (int col = 20; col < n; ++col) h.at(row, col) = 0.05f;
-  RoughnessFilter filter;
-  DenseGrid rough, fill, hazard;
-  filter.compute(h, kernel, rough, fill);
-  classify_roughness(h, rough, fill, RoughnessParams{kernel, 0.03, 0.5}, hazard);
+  const DenseGrid hazard = classify(h, constant_like(h, 0.0f), roughness_only(kernel, 0.03, 0.5, 3.0));
   for (int col = 2; col < n - 2; ++col) {
     const auto cls = static_cast<HazardClass>(int(hazard.at(n / 2, col)));
     const bool straddles = col >= 18 && col <= 21;
@@ -103,14 +144,52 @@ TEST(RoughnessFilter, SparseKernelsAndUnobservedCellsAreUnknown) {
   h.at(10, 10) = 0.0f;  // one observed cell: its kernel is 1/21 full
   for (int col = 0; col < n; ++col) h.at(15, col) = 0.0f;  // a full row: kernel 5/21 full
   RoughnessFilter filter;
-  DenseGrid rough, fill, hazard;
-  filter.compute(h, kernel, rough, fill);
+  DenseGrid rough, sigma, fill;
+  filter.compute(h, constant_like(h, 1e-6f), kernel, rough, sigma, fill);
   EXPECT_FLOAT_EQ(fill.at(10, 10), 1.0f / 21.0f);
   EXPECT_FLOAT_EQ(fill.at(15, 10), 5.0f / 21.0f);
-  classify_roughness(h, rough, fill, RoughnessParams{kernel, 0.03, 0.2}, hazard);
+  const DenseGrid hazard =
+      classify(h, constant_like(h, 1e-6f), roughness_only(kernel, 0.03, 0.2, 3.0));
   EXPECT_EQ(hazard.at(10, 10), float(HazardClass::unknown));   // kernel too empty
   EXPECT_EQ(hazard.at(15, 10), float(HazardClass::traversable));
   EXPECT_EQ(hazard.at(14, 10), float(HazardClass::unknown));   // unobserved cell
+}
+
+TEST(RoughnessFilter, NoiseBecomesUnknownNotHazardAndAClearStepStaysAHazard) {
+  // A 5 cm step read by cells with 1 cm sigma: range 5 cm - 3 sqrt(2) 1 cm = 0.76 cm is
+  // not > 3 cm: no evidence, and 5 + 4.2 > 3: no proof either, so unknown. With 2 mm sigma
+  // the step is evidence (5 - 0.85 > 3). Flat cells with 1 cm sigma: 0 + 4.2 cm > 3 cm,
+  // unknown; with 2 mm: 0.85 cm <= 3 cm, traversable.
+  const int n = 40, kernel = 5;
+  DenseGrid h;
+  h.reset(n, n, 0.01, 0, 0, 0.0f);
+  for (int row = 0; row < n; ++row)
+    for (int col = 20; col < n; ++col) h.at(row, col) = 0.05f;
+  const LayerHazardParams p = roughness_only(kernel, 0.03, 0.5, 3.0);
+  const DenseGrid noisy = classify(h, constant_like(h, 1e-4f), p);
+  const DenseGrid sharp = classify(h, constant_like(h, 4e-6f), p);
+  EXPECT_EQ(noisy.at(n / 2, 20), float(HazardClass::unknown));
+  EXPECT_EQ(noisy.at(n / 2, 10), float(HazardClass::unknown));
+  EXPECT_EQ(sharp.at(n / 2, 20), float(HazardClass::hazard));
+  EXPECT_EQ(sharp.at(n / 2, 10), float(HazardClass::traversable));
+  // k = 0 is the thesis' plain comparison: noise or not, the step is a hazard.
+  const DenseGrid plain = classify(h, constant_like(h, 1e-4f), roughness_only(kernel, 0.03, 0.5, 0.0));
+  EXPECT_EQ(plain.at(n / 2, 20), float(HazardClass::hazard));
+  EXPECT_EQ(plain.at(n / 2, 10), float(HazardClass::traversable));
+}
+
+TEST(RoughnessFilter, KernelEvidenceMakesAnUnobservedCellAHazardButNeverTraversable) {
+  // The rock's face is observed, the cell itself is not: the kernel's step is evidence.
+  const int n = 30, kernel = 5;
+  DenseGrid h;
+  h.reset(n, n, 0.01, 0, 0, 0.0f);
+  for (int row = 0; row < n; ++row)
+    for (int col = 16; col < n; ++col) h.at(row, col) = 0.08f;
+  h.at(15, 15) = NAN;
+  h.at(15, 5) = NAN;
+  const DenseGrid hazard = classify(h, constant_like(h, 1e-6f), roughness_only(kernel, 0.03, 0.5, 3.0));
+  EXPECT_EQ(hazard.at(15, 15), float(HazardClass::hazard));
+  EXPECT_EQ(hazard.at(15, 5), float(HazardClass::unknown));  // flat kernel, but no cell data
 }
 
 }  // namespace

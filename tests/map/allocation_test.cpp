@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "hazmap/hazard/fused_hazard.hpp"
-#include "hazmap/hazard/roughness_filter.hpp"
+#include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/map/layer_stack.hpp"
 
 namespace {
@@ -64,11 +64,20 @@ void run(const std::string& insertion, bool pose) {
   MapPoints points;
   std::mt19937_64 rng(1);
   std::vector<LayerGrids> grids(stack.size());
-  RoughnessFilter filter;
-  DenseGrid range, fill, hazard, fused;
+  Config config;
+  config.map = map;
+  config.rules = rules;
+  const HazardParams params = resolve_hazard_params(config);
+  std::vector<std::unique_ptr<HazardClassifier>> classifiers;
+  std::vector<HazardDiagnostics> diagnostics(stack.size());
   std::vector<DenseGrid> hazards(stack.size());
-  std::vector<const DenseGrid*> ptrs;
-  for (auto& h : hazards) ptrs.push_back(&h);
+  std::vector<FusionInput> inputs;
+  for (size_t i = 0; i < stack.size(); ++i) {
+    classifiers.push_back(make_hazard_classifier(params.layers[i]));
+    inputs.push_back({&hazards[i], params.layers[i].h_min_m});
+  }
+  HazardFusion fusion;
+  DenseGrid fused, clearance, footprint, distance;
   long after_first = 0;
   for (int frame = 0; frame < 6; ++frame) {
     if (frame == 1) after_first = g_news.load();
@@ -78,10 +87,11 @@ void run(const std::string& insertion, bool pose) {
     stack.insert(points);
     for (size_t i = 0; i < stack.size(); ++i) {
       stack.export_layer(i, grids[i]);
-      filter.compute(grids[i].height, 5, range, fill);
-      classify_roughness(grids[i].height, range, fill, RoughnessParams{5, 0.03, 0.5}, hazards[i]);
+      classifiers[i]->classify(grids[i], hazards[i], diagnostics[i]);
     }
-    fuse_hazards(ptrs, fused);
+    fusion.fuse(inputs, params.critical_height_m, fused_cells(params.fused_extent_m, 0.04), 0.04,
+                hazards[0].center_x_m, hazards[0].center_y_m, fused, clearance);
+    fusion.footprint(fused, params.footprint_radius_m, footprint, distance);
   }
   EXPECT_EQ(g_news.load() - after_first, 0) << insertion << (pose ? " with pose uncertainty" : "");
 }

@@ -119,16 +119,47 @@ TEST(Pipeline, SampleSequenceRunWritesAllOutputsAndShowsAllThreeClasses) {
   EXPECT_TRUE(std::filesystem::is_regular_file(dir / "out/summary.json"));
 }
 
-TEST(Pipeline, DerivedRoughnessThresholdFollowsTheMaxSlope) {
+TEST(HazardParams, DerivedThresholdsAndHeightsComeFromOnePlace) {
+  Config config;
+  config.hazard.max_slope_deg = 20;
   LayerConfig layer;
   layer.resolution_m = 0.04;
   layer.hazard.kernel = 5;
-  HazardConfig hazard;
-  hazard.max_slope_deg = 20;
-  EXPECT_NEAR(roughness_params(layer, hazard).threshold_m, 4 * 0.04 * std::tan(20 * M_PI / 180),
-              1e-15);
+  layer.rule = RuleKind::kalman;
+  // Piecewise constant: (D - 1) r tan(max_slope), which is also its h_min.
+  LayerHazardParams p = resolve_layer_hazard(layer, config);
+  EXPECT_NEAR(p.roughness_threshold_m, 4 * 0.04 * std::tan(20 * M_PI / 180), 1e-15);
+  EXPECT_DOUBLE_EQ(p.h_min_m, p.roughness_threshold_m);
   layer.hazard.roughness_threshold_m = 0.073;
-  EXPECT_DOUBLE_EQ(roughness_params(layer, hazard).threshold_m, 0.073);
+  EXPECT_DOUBLE_EQ(resolve_layer_hazard(layer, config).roughness_threshold_m, 0.073);
+  layer.hazard.h_min_m = 0.02;  // an explicit h_min wins
+  EXPECT_DOUBLE_EQ(resolve_layer_hazard(layer, config).h_min_m, 0.02);
+  // CCM: h_min = 0.75 r, rho_max = h_min^2 / 16, face at atan(h_min / r).
+  LayerConfig ccm;
+  ccm.resolution_m = 0.08;
+  ccm.rule = RuleKind::ccm;
+  p = resolve_layer_hazard(ccm, config);
+  EXPECT_DOUBLE_EQ(p.h_min_m, 0.06);
+  EXPECT_DOUBLE_EQ(p.rho_max_m2, 0.06 * 0.06 / 16);
+  EXPECT_DOUBLE_EQ(p.tan_face, 0.75);
+  EXPECT_TRUE(p.ring_tests);
+  ccm.resolution_m = 0.32;  // wider than the 0.30 m wheelbase: no ring
+  EXPECT_FALSE(resolve_layer_hazard(ccm, config).ring_tests);
+  // Run-wide: critical height from the finest layer, footprint radius wheelbase / 2, the
+  // fused extent from the largest layer.
+  config.map.layers = {layer, ccm};
+  config.map.layers[1].size = 40;
+  HazardParams all = resolve_hazard_params(config);
+  EXPECT_DOUBLE_EQ(all.critical_height_m, 0.02);
+  EXPECT_DOUBLE_EQ(all.footprint_radius_m, 0.15);
+  EXPECT_DOUBLE_EQ(all.fused_extent_m, 40 * 0.32);
+  config.hazard.critical_height_m = 0.05;
+  config.hazard.footprint_radius_m = 0.2;
+  config.hazard.fused_extent_m = 3;
+  all = resolve_hazard_params(config);
+  EXPECT_DOUBLE_EQ(all.critical_height_m, 0.05);
+  EXPECT_DOUBLE_EQ(all.footprint_radius_m, 0.2);
+  EXPECT_DOUBLE_EQ(all.fused_extent_m, 3);
 }
 
 }  // namespace

@@ -1,15 +1,51 @@
 #pragma once
-// Fused hazard map (SPEC 8.3): on the finest layer's grid, a cell is a hazard where any
-// layer covering its centre says hazard, traversable where some layer knows it and none
-// says hazard, and unknown otherwise.
+// The maps a planner consumes, on one grid at the finest layer's resolution.
+//
+// Fused hazard (SPEC 8.4): a coarse layer can only vouch for obstacles of at least its own
+// h_min. A cell is a hazard where any layer covering its centre says hazard, traversable
+// only where a layer whose h_min <= critical_height says traversable, unknown otherwise.
+// Fused clearance: the smallest h_min of the layers that call the cell traversable (NaN
+// where none does, or where the fused map says hazard): an upper bound on an obstacle
+// that could still hide there.
+//
+// Footprint (SPEC 8.5), the configuration space of the rover's centre: hazard if a fused
+// hazard cell lies within the footprint radius, else unknown if an unknown cell (or the
+// map's edge) does, else traversable. Hazard distance: metres from each cell centre to
+// the nearest fused hazard cell centre, capped at half the map's side.
 
 #include <vector>
 
+#include "hazmap/hazard/distance_transform.hpp"
 #include "hazmap/map/dense_grid.hpp"
 
 namespace hazmap {
 
-/// `layers` finest first (values 0/1/2 as HazardClass); `fused` gets layers[0]'s geometry.
-void fuse_hazards(const std::vector<const DenseGrid*>& layers, DenseGrid& fused);
+/// One layer's contribution to the fused map.
+struct FusionInput {
+  const DenseGrid* hazard = nullptr;  ///< HazardClass values
+  double h_min_m = 0.0;
+};
+
+class HazardFusion {
+ public:
+  /// Fuses `layers` onto a `cells` x `cells` grid of resolution `resolution_m` centred
+  /// at (center_x, center_y). Buffers are reused.
+  void fuse(const std::vector<FusionInput>& layers, double critical_height_m, int cells,
+            double resolution_m, double center_x_m, double center_y_m, DenseGrid& fused,
+            DenseGrid& clearance);
+
+  /// Footprint map and hazard distance from a fused map.
+  void footprint(const DenseGrid& fused, double radius_m, DenseGrid& footprint,
+                 DenseGrid& hazard_distance);
+
+ private:
+  std::vector<int> cols_, rows_;  ///< per layer: fused column/row -> layer column/row (-1 outside)
+  std::vector<unsigned char> hazard_src_, unknown_src_;
+  std::vector<float> hazard_d2_, unknown_d2_;
+  DistanceTransform edt_;
+};
+
+/// Cells per side of the fused grid: extent / resolution rounded to an even count.
+int fused_cells(double extent_m, double resolution_m);
 
 }  // namespace hazmap

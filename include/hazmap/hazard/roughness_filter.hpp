@@ -1,8 +1,7 @@
 #pragma once
-// Roughness hazards for piecewise-constant layers (SPEC 8.1). Over a circular kernel of
-// diameter D cells around each cell, roughness = max - min of the observed heights; the
-// cell is a hazard when roughness > threshold. Unknown when the cell is unobserved, the
-// kernel leaves the grid, or fewer than min_fill of the kernel's cells are observed.
+// Roughness of piecewise-constant layers (SPEC 8.1): over a circular kernel of diameter D
+// cells around each cell, roughness = max - min of the observed heights, with standard
+// deviation sqrt(var(max cell) + var(min cell)).
 //
 // The fast path runs sliding-window min/max along rows (one pass per distinct
 // half-width of the circle) and combines D rows per cell: O(cells * D), not O(cells * D^2).
@@ -13,25 +12,22 @@
 
 namespace hazmap {
 
-struct RoughnessParams {
-  int kernel = 5;                   ///< diameter D in cells, odd
-  double threshold_m = 0.025;       ///< hazard when max - min > threshold
-  double min_fill = 0.5;            ///< fraction of kernel cells that must be observed
-};
-
 /// Half-widths of the circular kernel: row offset dy in [-(D-1)/2, (D-1)/2] spans
 /// columns [-w, w] with w = floor(sqrt((D/2)^2 - dy^2)); index dy + (D-1)/2.
 std::vector<int> kernel_half_widths(int kernel);
 
 /// Per-cell roughness (max - min of observed heights in the kernel; NaN where the kernel
-/// leaves the grid or holds no observed cell) and fill fraction, fast path.
+/// leaves the grid or holds no observed cell), its standard deviation, and the observed
+/// fraction of the kernel.
 class RoughnessFilter {
  public:
-  /// Computes into `roughness` and `fill` (same geometry as `height`), reusing buffers.
-  void compute(const DenseGrid& height, int kernel, DenseGrid& roughness, DenseGrid& fill);
+  /// Computes into `roughness`, `sigma` and `fill` (geometry of `height`; `variance` holds
+  /// the cells' height variances), reusing buffers.
+  void compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
+               DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill);
 
  private:
-  std::vector<float> row_max_, row_min_, row_count_;
+  std::vector<float> row_max_, row_min_, row_count_, row_max_var_, row_min_var_;
   std::vector<int> deque_;
   int kernel_ = -1;            ///< kernel of the cached widths
   std::vector<int> widths_;    ///< kernel_half_widths(kernel_)
@@ -39,12 +35,7 @@ class RoughnessFilter {
 };
 
 /// Brute-force O(cells * D^2) reference of RoughnessFilter::compute.
-void roughness_brute_force(const DenseGrid& height, int kernel, DenseGrid& roughness,
-                           DenseGrid& fill);
-
-/// Classifies cells (values 0 unknown, 1 traversable, 2 hazard) from height, roughness
-/// and fill grids.
-void classify_roughness(const DenseGrid& height, const DenseGrid& roughness,
-                        const DenseGrid& fill, const RoughnessParams& params, DenseGrid& hazard);
+void roughness_brute_force(const DenseGrid& height, const DenseGrid& variance, int kernel,
+                           DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill);
 
 }  // namespace hazmap

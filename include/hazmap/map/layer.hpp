@@ -40,6 +40,10 @@ struct LayerGrids {
   DenseGrid lateral_xx;
   DenseGrid lateral_yy;
   DenseGrid lateral_xy;
+  /// Lateral-height covariance Sxz/W, Syz/W [m^2]: with the lateral covariance, the
+  /// plane's slope along each principal axis, even where the other axis is unobserved.
+  DenseGrid lateral_xz;
+  DenseGrid lateral_yz;
 };
 
 /// Per-parent-cell pooled moments of a finer layer (finest_then_pool), indexed by the

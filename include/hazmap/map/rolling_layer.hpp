@@ -19,6 +19,7 @@
 // constructor.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -176,13 +177,9 @@ class RollingLayer final : public Layer {
     reset(out.height);
     reset(out.variance);
     if constexpr (Rule::kHasPlane) {
-      for (DenseGrid* g :
-           {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage, &out.evaluable})
-        reset(*g);
+      for (DenseGrid* g : plane_grids(out)) reset(*g);
     } else {
-      for (DenseGrid* g :
-           {&out.count, &out.slope_x, &out.slope_y, &out.roughness, &out.coverage, &out.evaluable})
-        g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
+      for (DenseGrid* g : plane_grids(out)) g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
     }
     for (int row = 0; row < n; ++row) {
       const CellIndex iy = grid_.origin_y() + (n - 1 - row);
@@ -200,6 +197,11 @@ class RollingLayer final : public Layer {
           out.coverage.at(row, col) = static_cast<float>(Rule::coverage(c, r));
           out.evaluable.at(row, col) = Rule::evaluable(config_, c, r) ? 1.0f : 0.0f;
           out.count.at(row, col) = static_cast<float>(c.count);
+          out.lateral_xx.at(row, col) = c.sxx / c.w;
+          out.lateral_yy.at(row, col) = c.syy / c.w;
+          out.lateral_xy.at(row, col) = c.sxy / c.w;
+          out.lateral_xz.at(row, col) = c.sxz / c.w;
+          out.lateral_yz.at(row, col) = c.syz / c.w;
         } else {
           out.height.at(row, col) = Rule::height(c);
         }
@@ -231,6 +233,13 @@ class RollingLayer final : public Layer {
     typename Rule::Sums sums;
     float z_ref = 0.0f;
   };
+
+  /// The grids only layers with a plane fill.
+  static std::array<DenseGrid*, 12> plane_grids(LayerGrids& out) {
+    return {&out.count,     &out.slope_x,    &out.slope_y,    &out.roughness,
+            &out.coverage,  &out.evaluable,  &out.noise_variance, &out.lateral_xx,
+            &out.lateral_yy, &out.lateral_xy, &out.lateral_xz, &out.lateral_yz};
+  }
 
   std::size_t cell_count() const {
     return static_cast<std::size_t>(grid_.size()) * static_cast<std::size_t>(grid_.size());

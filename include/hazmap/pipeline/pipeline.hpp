@@ -7,8 +7,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "hazmap/hazard/ccm_hazards.hpp"
-#include "hazmap/hazard/roughness_filter.hpp"
+#include <memory>
+
+#include "hazmap/hazard/fused_hazard.hpp"
+#include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
@@ -33,23 +35,18 @@ struct FrameReport {
 
 /// What a layer shows after a frame: dense grids in image order (row 0 = largest y).
 struct LayerView {
-  LayerGrids map;         ///< height, variance (+ plane grids for CCM layers)
-  DenseGrid kernel_range; ///< piecewise-constant layers: max - min in the kernel [m]
-  DenseGrid kernel_fill;  ///< observed fraction of the kernel
-  DenseGrid hazard;       ///< HazardClass values
+  LayerGrids map;                 ///< height, variance (+ plane grids for CCM layers)
+  HazardDiagnostics diagnostics;  ///< the classifier's intermediate grids
+  DenseGrid hazard;               ///< HazardClass values
 };
 
-/// Roughness parameters of a layer: the kernel from its config, the threshold given or
-/// derived as (D - 1) r tan(max_slope) (SPEC 8.1).
-RoughnessParams roughness_params(const LayerConfig& layer, const HazardConfig& hazard);
-
-/// CCM hazard parameters of a layer: h_min given or 0.75 r, rho_max given or h_min^2/16.
-CcmHazardParams ccm_params(const LayerConfig& layer, const HazardConfig& hazard);
-
-/// Classifies one layer's exported grids into view.hazard: CCM layers by their plane
-/// tests (SPEC 8.2), the others by the roughness kernel (SPEC 8.1).
-void classify_layer(bool has_plane, const RoughnessParams& roughness, const CcmHazardParams& ccm,
-                    RoughnessFilter& filter, LayerView& view);
+/// The maps a planner consumes (SPEC 8.4, 8.5), at the finest layer's resolution.
+struct PlannerMaps {
+  DenseGrid fused;            ///< HazardClass values
+  DenseGrid clearance;        ///< [m], NaN where no layer proves the cell traversable
+  DenseGrid footprint;        ///< HazardClass values for the rover's centre
+  DenseGrid hazard_distance;  ///< [m] to the nearest fused hazard cell, capped
+};
 
 class Pipeline {
  public:
@@ -63,7 +60,9 @@ class Pipeline {
                       const PoseNoise& noise = {});
 
   const std::vector<LayerView>& layers() const { return views_; }
-  const DenseGrid& fused_hazard() const { return fused_; }
+  const DenseGrid& fused_hazard() const { return planner_.fused; }
+  const PlannerMaps& planner_maps() const { return planner_; }
+  const HazardParams& hazard_params() const { return hazard_params_; }
   const LayerStack& map() const { return map_; }
   /// Each layer's share of the last frame's insertion, ms (LayerStack::insert).
   const std::vector<double>& layer_map_ms() const { return layer_map_ms_; }
@@ -80,13 +79,13 @@ class Pipeline {
   CcmWeighting weighting_;
   MapPoints points_;  ///< the frame's points as the map reads them
   std::vector<double> layer_map_ms_;
-  RoughnessFilter roughness_;
-  std::vector<RoughnessParams> roughness_params_;
-  std::vector<CcmHazardParams> ccm_params_;
+  HazardParams hazard_params_;
+  std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
+  HazardFusion fusion_;
+  std::vector<FusionInput> fusion_inputs_;
 
   std::vector<LayerView> views_;
-  std::vector<const DenseGrid*> hazard_ptrs_;
-  DenseGrid fused_;
+  PlannerMaps planner_;
 };
 
 }  // namespace hazmap

@@ -1,0 +1,50 @@
+#pragma once
+// The rule every hazard test follows (SPEC 8): hazard needs evidence, traversable needs
+// proof. A test compares a statistic s, with standard deviation sigma propagated from the
+// cells' variances, with a threshold T:
+//   - hazard when s - k sigma > T, whether or not the data are complete;
+//   - traversable only if every test had complete data and s + k sigma <= T;
+//   - unknown otherwise.
+// One Evidence collects a cell's tests; k = 0 gives the thesis' plain comparisons.
+
+#include <cmath>
+
+#include "hazmap/map/dense_grid.hpp"
+
+namespace hazmap {
+
+class Evidence {
+ public:
+  explicit Evidence(double k_sigma) : k_(k_sigma) {}
+
+  /// Adds one test. `complete`: the data behind s cover what the test needs (kernel fill,
+  /// coverage, every ring sample). A NaN s or sigma is no evidence either way.
+  void test(double s, double sigma, double threshold, bool complete) {
+    if (!(std::isfinite(s) && sigma >= 0 && std::isfinite(sigma))) {
+      proven_ = false;
+      return;
+    }
+    if (s - k_ * sigma > threshold) hazard_ = true;
+    if (!complete || s + k_ * sigma > threshold) proven_ = false;
+  }
+  /// Evidence only: a statistic that can show a hazard but, being partial (one axis of a
+  /// plane, part of a ring), can never prove the cell traversable nor block the proof of
+  /// the complete tests.
+  void evidence(double s, double sigma, double threshold) {
+    if (std::isfinite(s) && std::isfinite(sigma) && s - k_ * sigma > threshold) hazard_ = true;
+  }
+  /// A test that could not be run (missing data): the cell cannot be proven traversable.
+  void missing() { proven_ = false; }
+
+  bool hazard() const { return hazard_; }
+  HazardClass result() const {
+    return hazard_ ? HazardClass::hazard : proven_ ? HazardClass::traversable : HazardClass::unknown;
+  }
+
+ private:
+  double k_;
+  bool hazard_ = false;
+  bool proven_ = true;
+};
+
+}  // namespace hazmap

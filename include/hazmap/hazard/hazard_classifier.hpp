@@ -1,0 +1,68 @@
+#pragma once
+// One hazard classifier per layer, chosen once from the layer's rule family (SPEC 8):
+// piecewise-constant layers (Bananas, Kalman, OMG) by their roughness kernel, CCM layers
+// by their plane tests; both add the step-above-the-wheel-ring test on layers finer than
+// the wheelbase. Every test follows Evidence's rule (evidence.hpp).
+
+#include <memory>
+
+#include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/roughness_filter.hpp"
+#include "hazmap/hazard/wheel_ring.hpp"
+#include "hazmap/map/layer.hpp"
+
+namespace hazmap {
+
+/// Intermediate grids a classifier leaves for output and inspection.
+struct HazardDiagnostics {
+  DenseGrid kernel_range;  ///< piecewise constant: max - min in the kernel [m]
+  DenseGrid kernel_sigma;  ///< its standard deviation [m]
+  DenseGrid kernel_fill;   ///< observed fraction of the kernel
+};
+
+class HazardClassifier {
+ public:
+  explicit HazardClassifier(const LayerHazardParams& params)
+      : params_(params), ring_(params.wheelbase_m / 2.0) {}
+  virtual ~HazardClassifier() = default;
+
+  /// Classifies every cell of `grids` (a layer's export) into `hazard` (HazardClass).
+  virtual void classify(const LayerGrids& grids, DenseGrid& hazard,
+                        HazardDiagnostics& diagnostics) = 0;
+
+  const LayerHazardParams& params() const { return params_; }
+
+ protected:
+  LayerHazardParams params_;
+  WheelRing ring_;
+};
+
+/// SPEC 8.1 + 8.3: roughness kernel and step above the ring, on cell heights.
+class PiecewiseConstantClassifier final : public HazardClassifier {
+ public:
+  using HazardClassifier::HazardClassifier;
+  void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
+
+ private:
+  RoughnessFilter filter_;
+};
+
+/// SPEC 8.2 + 8.3: roughness over noise, rock face, vehicle slope, step above the ring, on
+/// the cells' planes.
+class PlaneClassifier final : public HazardClassifier {
+ public:
+  using HazardClassifier::HazardClassifier;
+  void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
+
+  /// Sub-cell height of the plane surface at W point (x, y) and its variance; unknown
+  /// (known = false) outside the grid or on a cell that is not evaluable.
+  RingSample surface_at(const LayerGrids& grids, double x_m, double y_m) const;
+
+ private:
+  /// Residual variance about the plane and the number of points it rests on.
+  void cell_noise(const LayerGrids& g, int row, int col, double* res_var, double* n_eff) const;
+};
+
+std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);
+
+}  // namespace hazmap

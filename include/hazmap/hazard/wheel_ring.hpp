@@ -1,0 +1,46 @@
+#pragma once
+// The wheel ring (SPEC 8.2, 8.3): 8 samples of the terrain on a circle of radius
+// wheelbase / 2 around a cell centre. A full ring gives the plane the rover would stand
+// on (its tilt: the vehicle-slope test) and that plane's height under the cell (the cell's
+// height above it: the step test, which sees rock tops too flat and wide for the roughness
+// kernel). For 8 symmetric samples the least-squares plane has slope
+// sum(z dx) / sum(dx^2) along x (likewise y), sum(dx^2) = 4 R^2, and its value at the
+// centre is the samples' mean.
+
+#include "hazmap/hazard/evidence.hpp"
+
+namespace hazmap {
+
+struct RingSample {
+  double z_m = 0.0;
+  double var_m2 = 0.0;
+  bool known = false;
+};
+
+class WheelRing {
+ public:
+  static constexpr int kSamples = 8;
+  explicit WheelRing(double radius_m);
+
+  double radius() const { return radius_; }
+  double dx(int k) const { return dx_[k]; }
+  double dy(int k) const { return dy_[k]; }
+
+  /// Vehicle slope: tan of the ring plane's inclination against tan(max_slope); needs
+  /// every sample (else the test is missing: the cell cannot be proven traversable).
+  void slope_test(const RingSample (&s)[kSamples], double tan_max_slope, Evidence& ev) const;
+
+  /// Step above the ring: the cell height h (variance var_h) above the ring plane
+  /// against h_min. With a full ring the plane is fitted. With a partial ring only
+  /// hazard evidence is possible: ground that is a plane no steeper than max_slope lies
+  /// at most min_k(z_k) + R tan(max_slope) under the centre, so h above that bound is a
+  /// step for sure.
+  void step_test(double h_m, double var_h_m2, const RingSample (&s)[kSamples], double h_min_m,
+                 double tan_max_slope, Evidence& ev) const;
+
+ private:
+  double radius_;
+  double dx_[kSamples], dy_[kSamples];
+};
+
+}  // namespace hazmap

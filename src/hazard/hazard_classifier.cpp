@@ -1,0 +1,172 @@
+#include "hazmap/hazard/hazard_classifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hazmap/hazard/evidence.hpp"
+
+namespace hazmap {
+namespace {
+
+/// The cell's sensor noise variance; 0 where the layer does not know it.
+double noise_at(const DenseGrid& noise, int row, int col) {
+  if (noise.rows == 0) return 0.0;
+  const double v = noise.at(row, col);
+  return std::isfinite(v) ? v : 0.0;
+}
+
+}  // namespace
+
+// ---- Piecewise-constant layers (SPEC 8.1, 8.3) ----
+
+void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazard,
+                                           HazardDiagnostics& diag) {
+  const DenseGrid& h = g.height;
+  const LayerHazardParams& p = params_;
+  filter_.compute(h, g.variance, p.kernel, diag.kernel_range, diag.kernel_sigma, diag.kernel_fill);
+  hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
+               static_cast<float>(HazardClass::unknown));
+  const double tan_slope = std::tan(p.max_slope_rad);
+  // Ring samples as cell offsets (the observed cell that holds each sample point).
+  int ring_dr[WheelRing::kSamples], ring_dc[WheelRing::kSamples];
+  for (int k = 0; k < WheelRing::kSamples; ++k) {
+    ring_dc[k] = static_cast<int>(std::lround(ring_.dx(k) / h.resolution_m));
+    ring_dr[k] = -static_cast<int>(std::lround(ring_.dy(k) / h.resolution_m));  // row 0 = max y
+  }
+  for (int row = 0; row < h.rows; ++row)
+    for (int col = 0; col < h.cols; ++col) {
+      const float range = diag.kernel_range.at(row, col);
+      if (std::isnan(range)) continue;  // kernel off the layer or empty: unknown
+      const float z = h.at(row, col);
+      Evidence ev(p.k_sigma);
+      // The kernel is evidence even around an unobserved cell; proof needs the cell, the
+      // kernel's fill and the whole kernel inside the layer.
+      const bool complete = !std::isnan(z) && diag.kernel_fill.at(row, col) >= p.min_kernel_fill;
+      ev.test(range, diag.kernel_sigma.at(row, col), p.roughness_threshold_m, complete);
+      if (p.ring_tests && !ev.hazard()) {
+        if (std::isnan(z)) {
+          ev.missing();
+        } else {
+          RingSample s[WheelRing::kSamples];
+          for (int k = 0; k < WheelRing::kSamples; ++k) {
+            const int r = row + ring_dr[k], c = col + ring_dc[k];
+            if (r < 0 || c < 0 || r >= h.rows || c >= h.cols) continue;
+            const float zk = h.at(r, c);
+            if (std::isnan(zk)) continue;
+            s[k] = {zk, g.variance.at(r, c), true};
+          }
+          ring_.step_test(z, g.variance.at(row, col), s, p.h_min_m, tan_slope, ev);
+        }
+      }
+      hazard.at(row, col) = static_cast<float>(ev.result());
+    }
+}
+
+// ---- CCM layers (SPEC 8.2, 8.3) ----
+
+void PlaneClassifier::cell_noise(const LayerGrids& g, int row, int col, double* res_var,
+                                 double* n_eff) const {
+  const double rho = g.roughness.at(row, col);
+  const double noise = noise_at(g.noise_variance, row, col);
+  *res_var = std::max(rho, noise);
+  *n_eff = std::min<double>(g.count.at(row, col), params_.max_effective_count);
+}
+
+RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y_m) const {
+  RingSample s;
+  int row = 0, col = 0;
+  if (!g.height.cell_at(x_m, y_m, &row, &col) || g.evaluable.at(row, col) != 1.0f) return s;
+  const double dx = x_m - g.height.x_of_col(col), dy = y_m - g.height.y_of_row(row);
+  s.z_m = g.height.at(row, col) + g.slope_x.at(row, col) * dx + g.slope_y.at(row, col) * dy;
+  double res_var, n_eff;
+  cell_noise(g, row, col, &res_var, &n_eff);
+  // Least-squares prediction variance res_var / n (1 + d^T C^-1 d), d from the cell centre
+  // (an evaluable cell's points spread over it, so their mean is near the centre).
+  const double cxx = g.lateral_xx.at(row, col), cyy = g.lateral_yy.at(row, col),
+               cxy = g.lateral_xy.at(row, col);
+  const double det = cxx * cyy - cxy * cxy;
+  const double lever = det > 0 ? (cyy * dx * dx - 2 * cxy * dx * dy + cxx * dy * dy) / det : 0.0;
+  s.var_m2 = res_var / std::max(n_eff, 1.0) * (1.0 + lever);
+  s.known = std::isfinite(s.z_m);
+  return s;
+}
+
+void PlaneClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDiagnostics&) {
+  const DenseGrid& h = g.height;
+  const LayerHazardParams& p = params_;
+  hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
+               static_cast<float>(HazardClass::unknown));
+  const double tan_slope = std::tan(p.max_slope_rad);
+  for (int row = 0; row < h.rows; ++row)
+    for (int col = 0; col < h.cols; ++col) {
+      const float z = h.at(row, col);
+      if (std::isnan(z) || g.count.at(row, col) < p.min_points) continue;
+      const bool evaluable = g.evaluable.at(row, col) == 1.0f;
+      double res_var, n_eff;
+      cell_noise(g, row, col, &res_var, &n_eff);
+      Evidence ev(p.k_sigma);
+
+      // Sub-cell obstacle: the residual variance beyond the sensor's, whose estimate from
+      // n points has a standard deviation of about rho sqrt(2 / (n - 3)).
+      const double rho = g.roughness.at(row, col);
+      const double noise = noise_at(g.noise_variance, row, col);
+      ev.test(rho - noise, rho * std::sqrt(2.0 / std::max(n_eff - 3.0, 1.0)), p.rho_max_m2,
+              evaluable);
+
+      // Slopes along the principal axes of the points' lateral spread: on a partly covered
+      // cell the slope along its well-observed axis is evidence enough. Slope i has
+      // variance res_var / (n lambda_i).
+      const double cxx = g.lateral_xx.at(row, col), cyy = g.lateral_yy.at(row, col),
+                   cxy = g.lateral_xy.at(row, col);
+      const double cxz = g.lateral_xz.at(row, col), cyz = g.lateral_yz.at(row, col);
+      const double mid = 0.5 * (cxx + cyy), half_gap = std::hypot(0.5 * (cxx - cyy), cxy);
+      const double lambda[2] = {mid + half_gap, mid - half_gap};
+      const double theta = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);  // axis of lambda[0]
+      const double ex[2] = {std::cos(theta), -std::sin(theta)};
+      const double ey[2] = {std::sin(theta), std::cos(theta)};
+      const double tiny = 1e-6 * h.resolution_m * h.resolution_m;
+      double g2 = 0, var_g = 0;
+      bool both_axes = true;
+      for (int i = 0; i < 2; ++i) {
+        if (!(lambda[i] > tiny)) {
+          both_axes = false;
+          continue;
+        }
+        const double gi = (ex[i] * cxz + ey[i] * cyz) / lambda[i];
+        const double si = std::sqrt(res_var / (std::max(n_eff, 1.0) * lambda[i]));
+        ev.evidence(std::abs(gi), si, p.tan_face);
+        if (!p.ring_tests) ev.evidence(std::abs(gi), si, tan_slope);
+        g2 += gi * gi;
+        var_g += si * si;
+      }
+      // Proof needs the whole plane: |g| has a standard deviation of at most sqrt(var_g).
+      const bool plane_known = evaluable && both_axes;
+      const double slope = plane_known ? std::sqrt(g2) : 0.0;
+      if (plane_known) {
+        ev.test(slope, std::sqrt(var_g), p.tan_face, true);
+        if (!p.ring_tests) ev.test(slope, std::sqrt(var_g), tan_slope, true);  // own inclination
+      } else {
+        ev.missing();
+      }
+
+      if (p.ring_tests && !ev.hazard()) {
+        const double cx = h.x_of_col(col), cy = h.y_of_row(row);
+        RingSample s[WheelRing::kSamples];
+        for (int k = 0; k < WheelRing::kSamples; ++k)
+          s[k] = surface_at(g, cx + ring_.dx(k), cy + ring_.dy(k));
+        ring_.slope_test(s, tan_slope, ev);
+        // The cell's own height: its plane at the centre (mean's variance), or mu_z with
+        // the published variance, which covers the unknown tilt.
+        const double var_h = evaluable ? res_var / std::max(n_eff, 1.0) : g.variance.at(row, col);
+        ring_.step_test(z, var_h, s, p.h_min_m, tan_slope, ev);
+      }
+      hazard.at(row, col) = static_cast<float>(ev.result());
+    }
+}
+
+std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params) {
+  if (params.family == HazardFamily::plane) return std::make_unique<PlaneClassifier>(params);
+  return std::make_unique<PiecewiseConstantClassifier>(params);
+}
+
+}  // namespace hazmap
