@@ -27,6 +27,12 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
   hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
                static_cast<float>(HazardClass::unknown));
   const double tan_slope = std::tan(p.max_slope_rad);
+  int kernel_cells = 0;
+  for (int w : kernel_half_widths(p.kernel)) kernel_cells += 2 * w + 1;
+  if (kernel_k_.size() != static_cast<size_t>(kernel_cells) + 1) {  // once per layer
+    kernel_k_.resize(static_cast<size_t>(kernel_cells) + 1);
+    for (int n = 0; n <= kernel_cells; ++n) kernel_k_[n] = kernel_k_sigma(p.k_sigma, n);
+  }
   // Ring samples as cell offsets (the observed cell that holds each sample point).
   int ring_dr[WheelRing::kSamples], ring_dc[WheelRing::kSamples];
   for (int k = 0; k < WheelRing::kSamples; ++k) {
@@ -42,7 +48,11 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
       // The kernel is evidence even around an unobserved cell; proof needs the cell, the
       // kernel's fill and the whole kernel inside the layer.
       const bool complete = !std::isnan(z) && diag.kernel_fill.at(row, col) >= p.min_kernel_fill;
-      ev.test(range, diag.kernel_sigma.at(row, col), p.roughness_threshold_m, complete);
+      // The range is the largest difference among the kernel's observed cells: its hazard
+      // side counts the cells it was picked from.
+      const int observed = static_cast<int>(std::lround(diag.kernel_fill.at(row, col) * kernel_cells));
+      ev.test(range, diag.kernel_sigma.at(row, col), p.roughness_threshold_m, complete,
+              kernel_k_[std::clamp(observed, 0, kernel_cells)]);
       if (p.ring_tests && !ev.hazard()) {
         if (std::isnan(z)) {
           ev.missing();

@@ -34,8 +34,12 @@ Config analytic_config(const std::vector<std::pair<RuleKind, double>>& layers,
 
 /// Samples the surface on a square grid of `spacing` over +-half, with Gaussian height
 /// noise sigma, and runs hazards on every layer. Returns the views.
+/// Keeps a point at (x, y) when true (what the cameras see).
+using Visible = std::function<bool(double, double)>;
+
 std::vector<LayerView> map_surface(const Config& config, const Surface& h, double half_m,
-                                   double spacing_m, double sigma_m, unsigned seed = 1) {
+                                   double spacing_m, double sigma_m, unsigned seed = 1,
+                                   const Visible& visible = nullptr) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma_m);
   std::uniform_real_distribution<double> jitter(-0.5, 0.5);
@@ -43,6 +47,7 @@ std::vector<LayerView> map_surface(const Config& config, const Surface& h, doubl
   for (double y = -half_m; y < half_m; y += spacing_m)
     for (double x = -half_m; x < half_m; x += spacing_m) {
       const double px = x + jitter(rng) * spacing_m, py = y + jitter(rng) * spacing_m;
+      if (visible && !visible(px, py)) continue;
       Measurement m{};
       m.p_W = Eigen::Vector3f(float(px), float(py), float(h(px, py) + noise(rng)));
       m.cov_xx = m.cov_yy = float(1e-6);
@@ -190,6 +195,68 @@ TEST(AnalyticHazards, TenCentimetreRockIsAHazardOnThe4And8CentimetreLayers) {
   const auto views = map_surface(config, rock(0.10), 1.4, 0.002, 0.001);
   EXPECT_GT(count(views[1].hazard).hazard, 0);
   EXPECT_GT(count(views[2].hazard).hazard, 0);
+}
+
+TEST(AnalyticHazards, NoisyFarPlaneIsUnknownNotHazardOnEveryLayer) {
+  // Far ground: few points per cell, each with 4 cm height sigma (stereo at a few metres).
+  // Nothing there proves a hazard, and nothing proves the ground clear of 3 cm rocks.
+  Config config = analytic_config(kAllLayers);
+  const auto views = map_surface(
+      config, [](double, double) { return 0.0; }, 1.4, 0.02, 0.04);
+  for (size_t i = 0; i < views.size(); ++i) EXPECT_EQ(count(views[i].hazard).hazard, 0) << "layer " << i;
+  EXPECT_EQ(count(views[0].hazard).traversable, 0);
+  EXPECT_EQ(count(views[1].hazard).traversable, 0);
+  // The thesis' plain comparisons (k = 0) turn the same noise into hazards.
+  config.hazard.k_sigma = 0;
+  const auto plain = map_surface(
+      config, [](double, double) { return 0.0; }, 1.4, 0.02, 0.04);
+  EXPECT_GT(count(plain[0].hazard).hazard, 1000);
+}
+
+TEST(AnalyticHazards, OneFaceOfARockIsAHazard) {
+  // Only the near half of a 6 cm rock is seen (its far side is hidden from the cameras),
+  // and nothing behind it: the visible face is evidence enough on the fine layers.
+  const Config config = analytic_config(kAllLayers);
+  const double R = 0.06, xc = 0.2, yc = 0.1;
+  const auto views = map_surface(config, rock(R, xc, yc), 1.4, 0.002, 0.001, 1,
+                                 [&](double x, double) { return x < xc; });
+  for (size_t i : {0u, 1u}) {
+    int on_face = 0;
+    const DenseGrid& h = views[i].hazard;
+    for (int row = 0; row < h.rows; ++row)
+      for (int col = 0; col < h.cols; ++col)
+        if (h.at(row, col) == float(HazardClass::hazard) && h.x_of_col(col) < xc &&
+            rim_distance(h, row, col, R, xc, yc) < 0)
+          ++on_face;
+    EXPECT_GT(on_face, 0) << "layer " << i;
+  }
+  // Nothing behind the rock was seen, so nothing there is traversable.
+  int row = 0, col = 0;
+  ASSERT_TRUE(views[0].hazard.cell_at(xc + 0.1, yc, &row, &col));
+  EXPECT_NE(views[0].hazard.at(row, col), float(HazardClass::traversable));
+}
+
+TEST(AnalyticHazards, FlatRockTopWiderThanTheKernelIsAHazardOnEveryLayerThatVouchesForIt) {
+  // A 6 cm high block with a flat 24 cm x 24 cm top: its centre looks smooth to the 7-cell
+  // kernel and to a 4 cm plane, but stands 6 cm above the wheel ring (radius 15 cm).
+  const Config config = analytic_config(kAllLayers);
+  const double xc = 0.3, yc = 0.1, half = 0.12;
+  const auto views = map_surface(
+      config,
+      [&](double x, double y) { return std::abs(x - xc) < half && std::abs(y - yc) < half ? 0.06 : 0.0; },
+      1.4, 0.002, 0.001);
+  const HazardParams params = resolve_hazard_params(config);
+  for (size_t i = 0; i < views.size(); ++i) {
+    // Layers that vouch for 6 cm obstacles (h_min well below the block): 1 and 4 cm.
+    if (params.layers[i].h_min_m > 0.04) continue;
+    int row = 0, col = 0;
+    ASSERT_TRUE(views[i].hazard.cell_at(xc + 0.001, yc + 0.001, &row, &col));
+    EXPECT_EQ(views[i].hazard.at(row, col), float(HazardClass::hazard)) << "layer " << i;
+  }
+  // The roughness kernel alone calls the top's centre traversable: the ring is what sees it.
+  int row = 0, col = 0;
+  ASSERT_TRUE(views[0].diagnostics.kernel_range.cell_at(xc + 0.001, yc + 0.001, &row, &col));
+  EXPECT_LT(views[0].diagnostics.kernel_range.at(row, col), 0.005);
 }
 
 }  // namespace

@@ -13,18 +13,28 @@
 
 namespace hazmap {
 
+/// The k for the largest of n noisy values (a kernel's max or min): each of the n values
+/// may exceed its truth by k_n sigma with probability P(Z > k) / n, so together no more
+/// often than one value exceeds k sigma (Bonferroni). k_n >= k; k_1 = k.
+double kernel_k_sigma(double k, int n);
+
 class Evidence {
  public:
   explicit Evidence(double k_sigma) : k_(k_sigma) {}
 
   /// Adds one test. `complete`: the data behind s cover what the test needs (kernel fill,
   /// coverage, every ring sample). A NaN s or sigma is no evidence either way.
+  /// `k_hazard` (>= k) replaces k on the hazard side where s is the most extreme of many
+  /// noisy values (see kernel_k_sigma).
   void test(double s, double sigma, double threshold, bool complete) {
+    test(s, sigma, threshold, complete, k_);
+  }
+  void test(double s, double sigma, double threshold, bool complete, double k_hazard) {
     if (!(std::isfinite(s) && sigma >= 0 && std::isfinite(sigma))) {
       proven_ = false;
       return;
     }
-    if (s - k_ * sigma > threshold) hazard_ = true;
+    if (s - k_hazard * sigma > threshold) hazard_ = true;
     if (!complete || s + k_ * sigma > threshold) proven_ = false;
   }
   /// Evidence only: a statistic that can show a hazard but, being partial (one axis of a
@@ -37,6 +47,7 @@ class Evidence {
   void missing() { proven_ = false; }
 
   bool hazard() const { return hazard_; }
+  double k() const { return k_; }
   HazardClass result() const {
     return hazard_ ? HazardClass::hazard : proven_ ? HazardClass::traversable : HazardClass::unknown;
   }

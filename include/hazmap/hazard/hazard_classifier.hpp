@@ -45,6 +45,7 @@ class PiecewiseConstantClassifier final : public HazardClassifier {
 
  private:
   RoughnessFilter filter_;
+  std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
 };
 
 /// SPEC 8.2 + 8.3: roughness over noise, rock face, vehicle slope, step above the ring, on
