@@ -1,5 +1,6 @@
 // hazmap evaluate: score a run against ground truth (SPEC 10), or summarise a sweep.
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -14,18 +15,29 @@ namespace hazmap::cli {
 
 namespace {
 const char* kEvaluateUsage =
-    R"(usage: hazmap evaluate --run DIR --sequence DIR [--out DIR] [--error-maps FRAMES] [--quiet]
+    R"(usage: hazmap evaluate --run DIR --sequence DIR [--out DIR] [--near R] [--error-maps FRAMES] [--quiet]
        hazmap evaluate --sweep DIR [--out DIR] [--quiet]
 
 Scores every written frame and layer of a run (the OUT of hazmap run) against the
 sequence's ground truth (gt_height.jdem, gt_hazard.jdem from hazmap simulate
 --ground-truth; SPEC 10): height RMS (CCM on the sub-cell plane), missed-obstacle and
-false-alarm area and fraction, unknown fraction, variance violations. When the sequence
+false-alarm area and fraction, unknown fraction, hazard recall (share of the obstacles
+>= h_min labelled hazard) and hazard unknown (share labelled unknown), variance
+violations; height RMS and variance violations also over every published height
+(*_all: cells of unknown class included). Layers are L0, L1, ... (h_min: the layer's,
+as the pipeline resolves it), "fused" and "footprint" (h_min: hazard.critical_height;
+footprint only when the run wrote footprint_hazard.jdem). When the sequence
 has poses_true.txt (simulate --drift), the ground truth is placed into each frame's map
 frame with T_map_W = T_W_B(drifted) T_W_B(true)^-1.
 Writes into --out (default RUN/eval): metrics.csv (frame x layer), summary.csv and
 metrics.json (per layer, pooled over frames), metrics_over_time.png, errors_<frame>.png
 and report.html (static; open it in a browser).
+  --near R         also score the hazard metrics over the ground-truth pixels within R
+                   metres of the rover's true position in each frame (poses_true.txt, else
+                   poses.txt): extra columns/keys near_extent_m2, near_known_m2,
+                   near_gt_hazard_m2, near_hazard_recall, near_hazard_unknown,
+                   near_missed_m2, near_missed_fraction, near_missed_of_hazard,
+                   near_false_alarm_m2, near_false_alarm_fraction
   --error-maps F   frames that get an error map: NAME[,NAME...] or all (default: the last)
 
 --sweep DIR reads DIR/sweep.tsv (written by tools/sweep.sh) and every run's evaluation,
@@ -56,11 +68,11 @@ int cmd_evaluate(int argc, char** argv) {
     return kExitOk;
   }
   const Args args =
-      parse_args(argc, argv, {"run", "sequence", "out", "error-maps", "sweep"}, {"quiet"});
+      parse_args(argc, argv, {"run", "sequence", "out", "error-maps", "sweep", "near"}, {"quiet"});
   setup_logging({}, args.on("quiet"));
   if (args.has("sweep")) {
-    if (args.has("run") || args.has("sequence"))
-      throw UsageError("--sweep cannot be combined with --run or --sequence");
+    if (args.has("run") || args.has("sequence") || args.has("near"))
+      throw UsageError("--sweep cannot be combined with --run, --sequence or --near");
     const std::filesystem::path sweep = args.get("sweep");
     const std::filesystem::path out = args.get("out", (sweep / "summary").string());
     const int runs = hazmap::eval::summarize_sweep(sweep, out);
@@ -72,15 +84,22 @@ int cmd_evaluate(int argc, char** argv) {
   options.sequence_dir = args.required("sequence");
   options.out_dir = args.get("out");
   options.error_map_frames = comma_list(args.get("error-maps"));
+  if (args.has("near")) {
+    options.near_radius_m = args.number("near");
+    if (!(options.near_radius_m > 0.0) || !std::isfinite(options.near_radius_m))
+      throw UsageError("--near: expected a positive radius in metres, got '" + args.get("near") +
+                       "'");
+  }
   const hazmap::eval::RunEvaluation ev = hazmap::eval::evaluate_run(options);
   for (size_t l = 0; l < ev.layers.size(); ++l) {
     const auto m = hazmap::eval::derive_metrics(ev.pooled[l]);
     spdlog::info("{:>5} {:>5.0f} cm {:<5} h_min {:>4.1f} cm: RMS {:>7.2f} mm, unknown {:>8}, "
-                 "missed {:.4f} m2 ({} of obstacles), false alarm {:.4f} m2 ({} of known)",
+                 "missed {:.4f} m2 ({} of obstacles), false alarm {:.4f} m2 ({} of known), "
+                 "recall {}",
                  ev.layers[l].name, ev.layers[l].resolution_m * 100, ev.layers[l].rule,
                  ev.layers[l].h_min_m * 100, m.height_rms_m * 1000, pct(m.unknown_fraction),
                  m.missed_area_m2, pct(m.missed_of_hazard), m.false_alarm_area_m2,
-                 pct(m.false_alarm_fraction));
+                 pct(m.false_alarm_fraction), pct(m.hazard_recall));
   }
   spdlog::info("wrote metrics.csv, summary.csv, metrics.json, PNGs and report.html into {}",
                ev.out_dir.string());

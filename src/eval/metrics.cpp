@@ -14,10 +14,15 @@ MetricSums& MetricSums::operator+=(const MetricSums& o) {
   sq_error_sum_m2 += o.sq_error_sum_m2;
   gt_hazard_px += o.gt_hazard_px;
   gt_hazard_known_px += o.gt_hazard_known_px;
+  gt_hazard_found_px += o.gt_hazard_found_px;
   missed_px += o.missed_px;
   false_alarm_px += o.false_alarm_px;
   variance_px += o.variance_px;
   violation_px += o.violation_px;
+  height_all_px += o.height_all_px;
+  sq_error_all_sum_m2 += o.sq_error_all_sum_m2;
+  variance_all_px += o.variance_all_px;
+  violation_all_px += o.violation_all_px;
   if (pixel_area_m2 == 0.0) pixel_area_m2 = o.pixel_area_m2;
   return *this;
 }
@@ -42,6 +47,13 @@ LayerMetrics derive_metrics(const MetricSums& s) {
   m.false_alarm_area_m2 = static_cast<double>(s.false_alarm_px) * a;
   m.false_alarm_fraction = ratio(s.false_alarm_px, s.known_px);
   m.variance_violation = ratio(s.violation_px, s.variance_px);
+  m.hazard_recall = ratio(s.gt_hazard_found_px, s.gt_hazard_px);
+  m.hazard_unknown = ratio(s.gt_hazard_px - s.gt_hazard_known_px, s.gt_hazard_px);
+  m.height_samples_all = s.height_all_px;
+  m.height_rms_all_m = s.height_all_px == 0
+                           ? kNaN
+                           : std::sqrt(s.sq_error_all_sum_m2 / static_cast<double>(s.height_all_px));
+  m.variance_violation_all = ratio(s.violation_all_px, s.variance_all_px);
   return m;
 }
 
@@ -103,11 +115,14 @@ void pixel_bounds(const DenseGrid& window, const GroundTruth& gt, const Pose3d& 
 }  // namespace
 
 MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
-                       double h_min_m, ErrorMaps* maps) {
+                       double h_min_m, ErrorMaps* maps, const NearRegion* near,
+                       MetricSums* near_sums) {
   check(gt.height.rows > 0 && gt.height.cols > 0, "evaluation: empty ground-truth height grid");
   check(same_geometry(gt.height, gt.hazard),
         "evaluation: ground-truth height and hazard grids differ in size or placement");
   check(h_min_m > 0.0 && std::isfinite(h_min_m), "evaluation: h_min must be positive");
+  check(near == nullptr || (near->radius_m >= 0.0 && std::isfinite(near->radius_m)),
+        "evaluation: the near radius must be a non-negative number");
   const DenseGrid& window = layer.hazard;
   check(window.rows > 0, "evaluation: layer without a hazard grid");
   if (layer.has_height()) {
@@ -124,6 +139,11 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
   const DenseGrid& g = gt.height;
   MetricSums s;
   s.pixel_area_m2 = g.resolution_m * g.resolution_m;
+  const bool with_near = near != nullptr && near_sums != nullptr;
+  if (with_near) {
+    *near_sums = MetricSums{};
+    near_sums->pixel_area_m2 = s.pixel_area_m2;
+  }
   if (maps) {
     const int rows = r1 - r0, cols = c1 - c0;
     // Centre of the crop: pixel block [r0, r1) x [c0, c1) of the GT grid.
@@ -142,40 +162,54 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
       const Eigen::Vector3d p_map = T_map_W * Eigen::Vector3d(g.x_of_col(c), g.y_of_row(r), z_gt_W);
       int mr = 0, mc = 0;
       if (!window.cell_at(p_map.x(), p_map.y(), &mr, &mc)) continue;
-      ++s.extent_px;
+      // This pixel's contribution, added to the window's sums and, inside the near disc
+      // (tested at the GT pixel centre in W, where the rover truly is), to the near sums.
+      MetricSums px;
+      px.extent_px = 1;
       const bool gt_hazard = obstacle_m >= h_min_m;
       const bool gt_free = obstacle_m <= 0.0;
-      s.gt_hazard_px += gt_hazard;
+      px.gt_hazard_px = gt_hazard;
       const auto cls = static_cast<HazardClass>(static_cast<int>(window.at(mr, mc)));
+      const bool known = cls != HazardClass::unknown;
       PixelOutcome outcome = PixelOutcome::unknown;
-      if (cls != HazardClass::unknown) {
-        ++s.known_px;
-        s.gt_hazard_known_px += gt_hazard;
+      if (known) {
+        px.known_px = 1;
+        px.gt_hazard_known_px = gt_hazard;
         const bool says_hazard = cls == HazardClass::hazard;
         if (gt_hazard) {
           outcome = says_hazard ? PixelOutcome::hazard_ok : PixelOutcome::missed;
-          s.missed_px += !says_hazard;
+          px.gt_hazard_found_px = says_hazard;
+          px.missed_px = !says_hazard;
         } else if (gt_free) {
           outcome = says_hazard ? PixelOutcome::false_alarm : PixelOutcome::free_ok;
-          s.false_alarm_px += says_hazard;
+          px.false_alarm_px = says_hazard;
         } else {
           outcome = PixelOutcome::below_h_min;
         }
-        const double h = layer_height_at(layer, p_map.x(), p_map.y());
-        if (std::isfinite(h)) {
-          const double e = h - p_map.z();
-          if (gt_free) {
-            ++s.height_px;
-            s.sq_error_sum_m2 += e * e;
-          }
-          const double var = with_variance ? layer.variance.at(mr, mc) : kNaN;
-          if (std::isfinite(var) && var >= 0.0) {
-            ++s.variance_px;
-            s.violation_px += std::abs(e) > 3.0 * std::sqrt(var);
-          }
+      }
+      // Heights count whatever the class ("all" sums); the plain sums keep known cells only.
+      const double h = layer_height_at(layer, p_map.x(), p_map.y());
+      if (std::isfinite(h)) {
+        const double e = h - p_map.z();
+        if (gt_free) {
+          px.height_all_px = 1;
+          px.sq_error_all_sum_m2 = e * e;
+        }
+        const double var = with_variance ? layer.variance.at(mr, mc) : kNaN;
+        if (std::isfinite(var) && var >= 0.0) {
+          px.variance_all_px = 1;
+          px.violation_all_px = std::abs(e) > 3.0 * std::sqrt(var);
+        }
+        if (known) {
+          px.height_px = px.height_all_px;
+          px.sq_error_sum_m2 = px.sq_error_all_sum_m2;
+          px.variance_px = px.variance_all_px;
+          px.violation_px = px.violation_all_px;
           if (maps) maps->abs_error_m.at(r - r0, c - c0) = static_cast<float>(std::abs(e));
         }
       }
+      s += px;
+      if (with_near && near->contains(g.x_of_col(c), g.y_of_row(r))) *near_sums += px;
       if (maps) maps->outcome.at(r - r0, c - c0) = static_cast<float>(outcome);
     }
   }

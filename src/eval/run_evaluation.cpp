@@ -17,34 +17,50 @@
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/eval/plot.hpp"
+#include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
-#include "hazmap/pipeline/pipeline.hpp"
 
 namespace hazmap::eval {
 
 namespace fs = std::filesystem;
 
-double layer_h_min(const LayerConfig& layer, const HazardConfig& hazard, std::string* source) {
-  std::string how;
-  double h = 0.0;
-  if (layer.hazard.h_min_m > 0.0) {
-    h = layer.hazard.h_min_m;
-    how = "hazard.h_min";
-  } else if (layer.rule == RuleKind::ccm) {
-    h = 0.75 * layer.resolution_m;
-    how = "0.75 r";
-  } else {
-    Config c;
-    c.hazard = hazard;
-    h = resolve_layer_hazard(layer, c).roughness_threshold_m;
-    how = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
-                                                   : "derived roughness threshold";
+std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_footprint) {
+  const HazardParams params = resolve_hazard_params(config);
+  std::vector<EvaluatedLayer> layers;
+  for (size_t i = 0; i < config.map.layers.size(); ++i) {
+    const LayerConfig& lc = config.map.layers[i];
+    EvaluatedLayer l;
+    l.name = "L" + std::to_string(i);
+    l.index = static_cast<int>(i);
+    l.resolution_m = lc.resolution_m;
+    l.rule = rule_name(lc.rule);
+    l.h_min_m = params.layers[i].h_min_m;
+    l.h_min_source = params.layers[i].h_min_source;
+    layers.push_back(l);
   }
-  if (source) *source = how;
-  return h;
+  if (config.map.layers.empty()) return layers;
+  // SPEC 8.4, 10: both maps are at the finest resolution and must show every obstacle of
+  // the critical height.
+  const std::string source = config.hazard.critical_height_m > 0
+                                 ? "hazard.critical_height"
+                                 : "critical height (finest layer's h_min)";
+  const std::pair<const char*, const char*> maps[] = {{"fused", "fused_hazard.jdem"},
+                                                      {"footprint", "footprint_hazard.jdem"}};
+  for (const auto& [name, file] : maps) {
+    if (std::string(name) == "footprint" && !with_footprint) continue;
+    EvaluatedLayer l;
+    l.name = name;
+    l.rule = name;
+    l.resolution_m = config.map.layers.front().resolution_m;
+    l.h_min_m = params.critical_height_m;
+    l.h_min_source = source;
+    l.hazard_file = file;
+    layers.push_back(l);
+  }
+  return layers;
 }
 
 namespace {
@@ -132,16 +148,41 @@ std::string cm(double metres, const char* format = "%.2f") {
 const char* kCsvHeader =
     "frame,frame_number,layer,resolution_m,rule,h_min_m,extent_m2,known_m2,unknown_fraction,"
     "height_rms_m,height_samples,gt_hazard_m2,gt_hazard_known_m2,missed_m2,missed_fraction,"
-    "missed_of_hazard,false_alarm_m2,false_alarm_fraction,variance_violation";
+    "missed_of_hazard,false_alarm_m2,false_alarm_fraction,variance_violation,hazard_recall,"
+    "hazard_unknown,height_rms_all_m,height_samples_all,variance_violation_all";
 
-std::string csv_metrics(const LayerMetrics& m) {
+// The --near columns: the hazard metrics over the GT pixels near the rover (no heights).
+const char* kNearFields[] = {"near_extent_m2",      "near_known_m2",       "near_gt_hazard_m2",
+                             "near_hazard_recall",  "near_hazard_unknown", "near_missed_m2",
+                             "near_missed_fraction", "near_missed_of_hazard",
+                             "near_false_alarm_m2", "near_false_alarm_fraction"};
+
+std::vector<double> near_values(const LayerMetrics& m) {
+  return {m.extent_area_m2,    m.known_area_m2,    m.gt_hazard_area_m2,    m.hazard_recall,
+          m.hazard_unknown,    m.missed_area_m2,   m.missed_fraction,      m.missed_of_hazard,
+          m.false_alarm_area_m2, m.false_alarm_fraction};
+}
+
+std::string csv_header(bool with_frame, bool with_near) {
+  std::string h = kCsvHeader;
+  if (!with_frame) h = h.substr(std::string("frame,frame_number,").size());
+  if (with_near)
+    for (const char* f : kNearFields) h += std::string(",") + f;
+  return h;
+}
+
+std::string csv_metrics(const LayerMetrics& m, const LayerMetrics* near) {
   std::ostringstream o;
   o << fmt(m.extent_area_m2) << ',' << fmt(m.known_area_m2) << ',' << fmt(m.unknown_fraction)
     << ',' << fmt(m.height_rms_m) << ',' << m.height_samples << ',' << fmt(m.gt_hazard_area_m2)
     << ',' << fmt(m.gt_hazard_known_area_m2) << ',' << fmt(m.missed_area_m2) << ','
     << fmt(m.missed_fraction) << ',' << fmt(m.missed_of_hazard) << ','
     << fmt(m.false_alarm_area_m2) << ',' << fmt(m.false_alarm_fraction) << ','
-    << fmt(m.variance_violation);
+    << fmt(m.variance_violation) << ',' << fmt(m.hazard_recall) << ',' << fmt(m.hazard_unknown)
+    << ',' << fmt(m.height_rms_all_m) << ',' << m.height_samples_all << ','
+    << fmt(m.variance_violation_all);
+  if (near)
+    for (double v : near_values(*near)) o << ',' << fmt(v);
   return o.str();
 }
 
@@ -246,7 +287,7 @@ cv::Mat outcome_legend() {
 LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
   LayerMaps maps;
   if (layer.index < 0) {
-    maps.hazard = read_dense_grid(frame_dir / "fused_hazard.jdem");
+    maps.hazard = read_dense_grid(frame_dir / layer.hazard_file);
     return maps;
   }
   const std::string p = "L" + std::to_string(layer.index) + "_";
@@ -266,21 +307,26 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
                    const Config& config) {
   const fs::path& out = ev.out_dir;
   // metrics.csv
+  const bool near = ev.near_radius_m >= 0.0;
   std::ostringstream csv;
-  csv << kCsvHeader << '\n';
+  csv << csv_header(true, near) << '\n';
   for (size_t f = 0; f < ev.frames.size(); ++f)
-    for (size_t l = 0; l < ev.layers.size(); ++l)
+    for (size_t l = 0; l < ev.layers.size(); ++l) {
+      const LayerMetrics nm = near ? derive_metrics(ev.near_sums[f][l]) : LayerMetrics{};
       csv << ev.frames[f] << ',' << fmt(frame_number(ev.frames[f], f)) << ','
-          << csv_layer(ev.layers[l]) << ',' << csv_metrics(derive_metrics(ev.sums[f][l])) << '\n';
+          << csv_layer(ev.layers[l]) << ','
+          << csv_metrics(derive_metrics(ev.sums[f][l]), near ? &nm : nullptr) << '\n';
+    }
   write_file_atomically(out / "metrics.csv", csv.str());
 
   // summary.csv: pooled per layer; frame columns hold the count of frames.
   std::ostringstream sum;
-  sum << "frames," << std::string(kCsvHeader).substr(std::string("frame,frame_number,").size())
-      << '\n';
-  for (size_t l = 0; l < ev.layers.size(); ++l)
+  sum << "frames," << csv_header(false, near) << '\n';
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const LayerMetrics nm = near ? derive_metrics(ev.near_pooled[l]) : LayerMetrics{};
     sum << ev.frames.size() << ',' << csv_layer(ev.layers[l]) << ','
-        << csv_metrics(derive_metrics(ev.pooled[l])) << '\n';
+        << csv_metrics(derive_metrics(ev.pooled[l]), near ? &nm : nullptr) << '\n';
+  }
   write_file_atomically(out / "summary.csv", sum.str());
 
   // metrics.json
@@ -292,6 +338,7 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   j.key("frames").value(ev.frames.size());
   j.key("true_poses").value(ev.used_true_poses ? std::string("poses_true.txt")
                                                : std::string("poses.txt (no drift)"));
+  if (near) j.key("near_radius_m").value(ev.near_radius_m);
   j.key("pooling").value(
       "sums over all frames: areas add up, RMS over all pixels, fractions of the pooled areas");
   j.key("layers").begin_array();
@@ -317,12 +364,22 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
     j.key("false_alarm_m2").value(m.false_alarm_area_m2);
     j.key("false_alarm_fraction").value(m.false_alarm_fraction);
     j.key("variance_violation").value(m.variance_violation);
+    j.key("hazard_recall").value(m.hazard_recall);
+    j.key("hazard_unknown").value(m.hazard_unknown);
+    j.key("height_rms_all_m").value(m.height_rms_all_m);
+    j.key("height_samples_all").value(m.height_samples_all);
+    j.key("variance_violation_all").value(m.variance_violation_all);
+    if (near) {
+      const std::vector<double> v = near_values(derive_metrics(ev.near_pooled[l]));
+      for (size_t k = 0; k < v.size(); ++k) j.key(kNearFields[k]).value(v[k]);
+    }
     const LayerMetrics last = derive_metrics(ev.sums.back()[l]);
     j.key("last_frame").begin_object();
     j.key("height_rms_m").value(last.height_rms_m);
     j.key("missed_m2").value(last.missed_area_m2);
     j.key("false_alarm_m2").value(last.false_alarm_area_m2);
     j.key("unknown_fraction").value(last.unknown_fraction);
+    j.key("hazard_recall").value(last.hazard_recall);
     j.end_object();
     j.end_object();
   }
@@ -345,25 +402,43 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       {"unknown fraction of the window", "%", 100.0, &LayerMetrics::unknown_fraction},
       {"variance violations (|e| > 3 sigma)", "%", 100.0, &LayerMetrics::variance_violation},
       {"missed obstacle area", "cm^2", 1e4, &LayerMetrics::missed_area_m2},
+      {"hazard recall (obstacles labelled hazard)", "%", 100.0, &LayerMetrics::hazard_recall},
+      {"obstacles labelled unknown", "%", 100.0, &LayerMetrics::hazard_unknown},
+      {"height RMS, every published height", "cm", 100.0, &LayerMetrics::height_rms_all_m},
+      {"variance violations, every published height", "%", 100.0,
+       &LayerMetrics::variance_violation_all},
   };
   std::vector<cv::Mat> charts;
-  for (const Panel& p : panels) {
+  const auto add_chart = [&](const Panel& p, const std::vector<std::vector<MetricSums>>& sums) {
     LineChart chart;
     chart.title = p.title;
     chart.x_label = "frame";
     chart.y_label = p.y_label;
     for (size_t l = 0; l < ev.layers.size(); ++l) {
-      if (ev.layers[l].index < 0 && p.field == &LayerMetrics::height_rms_m) continue;
-      if (ev.layers[l].index < 0 && p.field == &LayerMetrics::variance_violation) continue;
+      // Hazard-only maps have no heights.
+      if (ev.layers[l].index < 0 &&
+          (p.field == &LayerMetrics::height_rms_m || p.field == &LayerMetrics::variance_violation ||
+           p.field == &LayerMetrics::height_rms_all_m ||
+           p.field == &LayerMetrics::variance_violation_all))
+        continue;
       Series s;
       s.name = ev.layers[l].name + " " + fmt(ev.layers[l].resolution_m * 100, "%g") + " cm";
       for (size_t f = 0; f < ev.frames.size(); ++f) {
         s.x.push_back(frame_number(ev.frames[f], f));
-        s.y.push_back(derive_metrics(ev.sums[f][l]).*(p.field) * p.scale);
+        s.y.push_back(derive_metrics(sums[f][l]).*(p.field) * p.scale);
       }
       chart.series.push_back(std::move(s));
     }
     charts.push_back(plot_lines(chart));
+  };
+  for (const Panel& p : panels) add_chart(p, ev.sums);
+  std::string near_title_recall, near_title_missed;
+  if (near) {
+    near_title_recall = "hazard recall within " + fmt(ev.near_radius_m, "%g") + " m of the rover";
+    near_title_missed = "missed obstacle area within " + fmt(ev.near_radius_m, "%g") + " m";
+    add_chart({near_title_recall.c_str(), "%", 100.0, &LayerMetrics::hazard_recall}, ev.near_sums);
+    add_chart({near_title_missed.c_str(), "cm^2", 1e4, &LayerMetrics::missed_area_m2},
+              ev.near_sums);
   }
   write_png(out / "metrics_over_time.png", tile_images(charts, 2));
 
@@ -384,13 +459,24 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       "Known = the layer gives a class other than unknown. Height RMS over known pixels "
       "without obstacle (CCM layers queried on their cell planes). Missed = obstacle at least "
       "h_min high that the layer calls traversable; false alarm = obstacle-free ground the "
-      "layer calls a hazard.";
+      "layer calls a hazard. Recall = share of the obstacle pixels (>= h_min) in the window "
+      "labelled hazard; obstacles unknown = share labelled unknown. \"All heights\" columns "
+      "count every published height, cells of unknown class included. The fused and "
+      "footprint maps are scored with the critical height as h_min.";
+  if (near)
+    summary.text += " Near = ground-truth pixels within " + fmt(ev.near_radius_m, "%g") +
+                    " m of the rover's true position in each frame.";
   HtmlTable table;
   table.id = "summary";
   table.header = {"layer", "cell [cm]", "rule", "h_min [cm]", "h_min from", "height RMS [cm]", "unknown [%]",
                   "obstacles known [m2]", "missed [m2]", "missed [% of known]",
                   "missed [% of obstacles]", "false alarm [m2]", "false alarm [% of known]",
-                  "variance violations [%]"};
+                  "variance violations [%]", "recall [%]", "obstacles unknown [%]",
+                  "height RMS, all heights [cm]", "variance violations, all heights [%]"};
+  if (near)
+    for (const char* h : {"near recall [%]", "near obstacles unknown [%]", "near missed [m2]",
+                          "near false alarm [% of known]"})
+      table.header.push_back(h);
   for (size_t l = 0; l < ev.layers.size(); ++l) {
     const EvaluatedLayer& L = ev.layers[l];
     const LayerMetrics m = derive_metrics(ev.pooled[l]);
@@ -400,7 +486,15 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
                           fmt(m.gt_hazard_known_area_m2, "%.4f"), fmt(m.missed_area_m2, "%.4f"),
                           pct(m.missed_fraction), pct(m.missed_of_hazard),
                           fmt(m.false_alarm_area_m2, "%.4f"), pct(m.false_alarm_fraction),
-                          pct(m.variance_violation)});
+                          pct(m.variance_violation), pct(m.hazard_recall),
+                          pct(m.hazard_unknown), cm(m.height_rms_all_m, "%.3f"),
+                          pct(m.variance_violation_all)});
+    if (near) {
+      const LayerMetrics n = derive_metrics(ev.near_pooled[l]);
+      for (const std::string& v : {pct(n.hazard_recall), pct(n.hazard_unknown),
+                                   fmt(n.missed_area_m2, "%.4f"), pct(n.false_alarm_fraction)})
+        table.rows.back().push_back(v);
+    }
   }
   summary.tables.push_back(table);
   page.sections.push_back(summary);
@@ -444,27 +538,21 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   std::sort(ev.frames.begin(), ev.frames.end());
   if (ev.frames.empty()) throw Error(frames_dir.string() + ": no frame folders");
 
-  double fused_h_min = 1e300;
-  for (size_t i = 0; i < config.map.layers.size(); ++i) {
-    const LayerConfig& lc = config.map.layers[i];
-    EvaluatedLayer l;
-    l.name = "L" + std::to_string(i);
-    l.index = static_cast<int>(i);
-    l.resolution_m = lc.resolution_m;
-    l.rule = rule_name(lc.rule);
-    l.h_min_m = layer_h_min(lc, config.hazard, &l.h_min_source);
-    fused_h_min = std::min(fused_h_min, l.h_min_m);
-    ev.layers.push_back(l);
+  // The footprint map is newer than the others: a run without it is scored without it.
+  bool with_footprint = true;
+  size_t footprint_frames = 0;
+  for (const std::string& f : ev.frames)
+    footprint_frames += fs::exists(frames_dir / f / "footprint_hazard.jdem");
+  if (footprint_frames < ev.frames.size()) {
+    with_footprint = false;
+    if (footprint_frames > 0)
+      spdlog::warn("footprint_hazard.jdem is in {} of {} frames only: footprint not scored",
+                   footprint_frames, ev.frames.size());
   }
-  if (!config.map.layers.empty()) {
-    EvaluatedLayer fused;
-    fused.name = "fused";
-    fused.resolution_m = config.map.layers.front().resolution_m;
-    fused.rule = "fused";
-    fused.h_min_m = fused_h_min;
-    fused.h_min_source = "smallest layer h_min";
-    ev.layers.push_back(fused);
-  }
+  ev.layers = evaluated_layers(config, with_footprint);
+  ev.near_radius_m = options.near_enabled() ? options.near_radius_m : -1.0;
+  if (options.near_enabled())
+    check(std::isfinite(options.near_radius_m), "--near: the radius must be a finite number");
 
   std::map<std::string, Pose3d> used = read_pose_map(options.sequence_dir / "poses.txt");
   std::map<std::string, Pose3d> truth;
@@ -482,6 +570,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   fs::create_directories(ev.out_dir);
   std::vector<std::pair<std::string, fs::path>> error_pngs;
   ev.pooled.assign(ev.layers.size(), MetricSums{});
+  if (options.near_enabled()) ev.near_pooled.assign(ev.layers.size(), MetricSums{});
   for (size_t f = 0; f < ev.frames.size(); ++f) {
     const std::string& name = ev.frames[f];
     Pose3d T_map_W = Pose3d::Identity();
@@ -495,16 +584,33 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
                     name);
       T_map_W = u->second * t->second.inverse();
     }
+    NearRegion near;
+    if (options.near_enabled()) {
+      // Where the rover truly is: poses_true.txt when the run drove on drifted poses.
+      const fs::path file = options.sequence_dir / (ev.used_true_poses ? "poses_true.txt" : "poses.txt");
+      const auto& poses = ev.used_true_poses ? truth : used;
+      const auto p = poses.find(name);
+      if (p == poses.end()) throw Error(file.string() + ": no pose for frame " + name + " (--near)");
+      near.x_m = p->second.translation().x();
+      near.y_m = p->second.translation().y();
+      near.radius_m = options.near_radius_m;
+    }
     const bool maps_wanted = all_error_maps || error_frames.count(name) > 0;
     std::vector<cv::Mat> tiles;
-    std::vector<MetricSums> row;
+    std::vector<MetricSums> row, near_row;
     for (size_t l = 0; l < ev.layers.size(); ++l) {
       const LayerMaps layer = read_layer(frames_dir / name, ev.layers[l]);
       ErrorMaps maps;
+      MetricSums near_sums;
       const MetricSums s =
-          score_layer(layer, gt, T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr);
+          score_layer(layer, gt, T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr,
+                      options.near_enabled() ? &near : nullptr, &near_sums);
       ev.pooled[l] += s;
       row.push_back(s);
+      if (options.near_enabled()) {
+        ev.near_pooled[l] += near_sums;
+        near_row.push_back(near_sums);
+      }
       if (maps_wanted) {
         const std::string label = ev.layers[l].name + " " +
                                   fmt(ev.layers[l].resolution_m * 100, "%g") + " cm " +
@@ -523,6 +629,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       }
     }
     ev.sums.push_back(std::move(row));
+    if (options.near_enabled()) ev.near_sums.push_back(std::move(near_row));
     if (maps_wanted) {
       cv::Mat grid = tile_images(tiles, 2);
       const cv::Mat legend = outcome_legend();

@@ -360,7 +360,7 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
       s.name = map_name;
       for (const std::string& layer : g.layers) {
         const LayerRow& info = g.layer_info.at(layer);
-        if (info.rule == "fused") continue;
+        if (info.rule == "fused" || info.rule == "footprint") continue;  // no heights
         const double rms = cell_value(g, layer, 0.0, &LayerRow::rms);
         const double unknown = cell_value(g, layer, 0.0, &LayerRow::unknown_fraction);
         rows.push_back({map_name, layer_label(info) + " " + info.rule, fmt(rms * 100, "%.3f"),

@@ -19,6 +19,12 @@ double noise_at(const DenseGrid& noise, int row, int col) {
 
 // ---- Piecewise-constant layers (SPEC 8.1, 8.3) ----
 
+PiecewiseConstantClassifier::PiecewiseConstantClassifier(const LayerHazardParams& params)
+    : HazardClassifier(params) {
+  for (int w : kernel_half_widths(params.kernel)) kernel_cells_ += 2 * w + 1;
+  for (int n = 0; n <= kernel_cells_; ++n) kernel_k_.push_back(kernel_k_sigma(params.k_sigma, n));
+}
+
 void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazard,
                                            HazardDiagnostics& diag) {
   const DenseGrid& h = g.height;
@@ -27,12 +33,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
   hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
                static_cast<float>(HazardClass::unknown));
   const double tan_slope = std::tan(p.max_slope_rad);
-  int kernel_cells = 0;
-  for (int w : kernel_half_widths(p.kernel)) kernel_cells += 2 * w + 1;
-  if (kernel_k_.size() != static_cast<size_t>(kernel_cells) + 1) {  // once per layer
-    kernel_k_.resize(static_cast<size_t>(kernel_cells) + 1);
-    for (int n = 0; n <= kernel_cells; ++n) kernel_k_[n] = kernel_k_sigma(p.k_sigma, n);
-  }
+  const int kernel_cells = kernel_cells_;
   // Ring samples as cell offsets (the observed cell that holds each sample point).
   int ring_dr[WheelRing::kSamples], ring_dc[WheelRing::kSamples];
   for (int k = 0; k < WheelRing::kSamples; ++k) {

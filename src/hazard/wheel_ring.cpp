@@ -55,10 +55,8 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
   ev.missing();
   if (known > 0)
     // The lowest of `known` noisy samples: its k counts them (kernel_k_sigma).
-    const double k_n = kernel_k_sigma(ev.k(), known);
-    if (h_m - (lowest + radius_ * tan_max_slope) - k_n * std::sqrt(var_h_m2 + lowest_var) > h_min_m)
-      ev.evidence(h_m - (lowest + radius_ * tan_max_slope) - (k_n - ev.k()) * std::sqrt(var_h_m2 + lowest_var),
-                  std::sqrt(var_h_m2 + lowest_var), h_min_m);
+    ev.evidence(h_m - (lowest + radius_ * tan_max_slope), std::sqrt(var_h_m2 + lowest_var),
+                h_min_m, kernel_k_sigma(ev.k(), known));
 }
 
 }  // namespace hazmap

@@ -52,6 +52,35 @@ TEST(EvaluateCli, WritesItsOutputsAndSummarisesASweep) {
   EXPECT_NE(md.find("| L0 4 cm | 3 | 0.00 |"), std::string::npos) << md;
 }
 
+TEST(EvaluateCli, NearAddsNearColumnsAndRejectsABadRadius) {
+  TempDir dir;
+  hazmap::testing::TestWorld w;
+  w.rocks = {{1.0, 0.3, 0.1}};
+  hazmap::testing::write_ground_truth(dir / "seq", w);
+  hazmap::testing::write_poses(dir / "seq" / "poses.txt", {"000000"}, {{0.0, 0.0}});
+  hazmap::testing::write_oracle_run(
+      dir / "run", hazmap::testing::oracle_config(), {"000000"},
+      {{hazmap::testing::build_oracle_layer(w, 0.04, 40, 0.96, 0.0, 0.03, true, 1e-4),
+        hazmap::testing::build_oracle_layer(w, 0.08, 20, 0.96, 0.0, 0.05, false, 1e-4)}});
+  const std::string base =
+      "evaluate --run " + (dir / "run").string() + " --sequence " + (dir / "seq").string();
+  ASSERT_EQ(run_cli(base + " --near 1.5 --quiet", dir / "err.txt"), 0)
+      << testing::read_text(dir / "err.txt");
+  const std::string csv = testing::read_text(dir / "run" / "eval" / "summary.csv");
+  EXPECT_NE(csv.find(",near_hazard_recall,"), std::string::npos) << csv;
+  for (const char* bad : {"0", "-1", "x"}) {
+    EXPECT_EQ(run_cli(base + " --near " + bad, dir / "err.txt"), 2) << bad;
+    EXPECT_NE(testing::read_text(dir / "err.txt").find("--near"), std::string::npos) << bad;
+  }
+  ASSERT_EQ(std::system((std::string(HAZMAP_CLI) + " evaluate --help > " +
+                         (dir / "help.txt").string())
+                            .c_str()),
+            0);
+  const std::string help = testing::read_text(dir / "help.txt");
+  for (const char* k : {"--near R", "near_hazard_recall", "footprint", "hazard recall"})
+    EXPECT_NE(help.find(k), std::string::npos) << k;
+}
+
 TEST(EvaluateCli, BadInputGivesOneLineAndExitCode) {
   TempDir dir;
   EXPECT_EQ(run_cli("evaluate --run " + (dir / "nothing").string(), dir / "err.txt"), 2);

@@ -108,6 +108,159 @@ TEST(ScoreLayer, PixelsOutsideTheWindowAreNotScored) {
   EXPECT_EQ(s.false_alarm_px, 0u);
 }
 
+// small_truth with obstacle pixels (5 cm >= h_min) in three cells of small_map: the 2 x 2
+// block in the hazard cell (0, 0), two pixels in the unknown cell (1, 0) and one in the
+// traversable cell (1, 1).
+GroundTruth spread_truth() {
+  GroundTruth gt = small_truth();
+  for (const auto& [r, c] : {std::pair{5, 1}, std::pair{5, 2}, std::pair{4, 6}}) {
+    gt.hazard.at(r, c) = 0.05f;
+    gt.height.at(r, c) = 0.15f;
+  }
+  return gt;
+}
+
+TEST(ScoreLayer, RecallAndUnknownAreSharesOfTheObstaclePixels) {
+  const MetricSums s = score_layer(small_map(), spread_truth(), Pose3d::Identity(), 0.03);
+  EXPECT_EQ(s.gt_hazard_px, 7u);
+  EXPECT_EQ(s.gt_hazard_found_px, 4u);
+  EXPECT_EQ(s.gt_hazard_known_px, 5u);
+  EXPECT_EQ(s.missed_px, 1u);
+  const LayerMetrics m = derive_metrics(s);
+  EXPECT_NEAR(m.hazard_recall, 4.0 / 7.0, 1e-15);
+  EXPECT_NEAR(m.hazard_unknown, 2.0 / 7.0, 1e-15);
+  EXPECT_NEAR(m.missed_of_hazard, 1.0 / 5.0, 1e-15);  // of the known obstacle pixels
+  // Obstacles lower than h_min are not obstacles: with h_min 6 cm there are none.
+  const LayerMetrics none = derive_metrics(score_layer(small_map(), spread_truth(),
+                                                       Pose3d::Identity(), 0.06));
+  EXPECT_TRUE(std::isnan(none.hazard_recall));
+  EXPECT_TRUE(std::isnan(none.hazard_unknown));
+  // A map that says unknown everywhere misses nothing and finds nothing.
+  LayerMaps blind = small_map();
+  blind.hazard.values.assign(blind.hazard.values.size(), 0.0f);
+  const LayerMetrics b = derive_metrics(score_layer(blind, spread_truth(), Pose3d::Identity(), 0.03));
+  EXPECT_EQ(b.missed_area_m2, 0.0);
+  EXPECT_EQ(b.hazard_recall, 0.0);
+  EXPECT_EQ(b.hazard_unknown, 1.0);
+}
+
+TEST(ScoreLayer, AllHeightMetricsIncludeCellsOfUnknownClass) {
+  // Without a height in the unknown cell, "all" equals the known-only sums.
+  const MetricSums plain = score_layer(small_map(), small_truth(), Pose3d::Identity(), 0.03);
+  EXPECT_EQ(plain.height_all_px, plain.height_px);
+  EXPECT_EQ(plain.variance_all_px, plain.variance_px);
+  EXPECT_EQ(plain.violation_all_px, plain.violation_px);
+  // The unknown cell (1, 0) publishes 0.11 m over ground at 0.1 m: 16 free pixels with
+  // |e| = 10 mm > 3 sigma = 3 mm.
+  LayerMaps m = small_map();
+  m.height.at(1, 0) = 0.11f;
+  const MetricSums s = score_layer(m, small_truth(), Pose3d::Identity(), 0.03);
+  EXPECT_EQ(s.height_px, 43u);  // known-only sums unchanged (CountsEveryPixelOutcome)
+  EXPECT_EQ(s.variance_px, 48u);
+  EXPECT_EQ(s.violation_px, 17u);
+  EXPECT_EQ(s.height_all_px, 43u + 16u);
+  EXPECT_EQ(s.variance_all_px, 48u + 16u);
+  EXPECT_EQ(s.violation_all_px, 17u + 16u);
+  const double e2_known = 12 * 0.0125 * 0.0125 + 15 * 0.002 * 0.002;
+  const double e2_all = e2_known + 16 * 0.01 * 0.01;
+  const LayerMetrics d = derive_metrics(s);
+  EXPECT_NEAR(d.height_rms_m, std::sqrt(e2_known / 43.0), 1e-6);  // float heights
+  EXPECT_NEAR(d.height_rms_all_m, std::sqrt(e2_all / 59.0), 1e-6);
+  EXPECT_EQ(d.height_samples_all, 59u);
+  EXPECT_NEAR(d.variance_violation, 17.0 / 48.0, 1e-15);
+  EXPECT_NEAR(d.variance_violation_all, 33.0 / 64.0, 1e-15);
+  // A NaN variance keeps a pixel out of both violation counts but not out of the RMS.
+  m.variance.at(1, 0) = std::numeric_limits<float>::quiet_NaN();
+  const MetricSums v = score_layer(m, small_truth(), Pose3d::Identity(), 0.03);
+  EXPECT_EQ(v.variance_all_px, 48u);
+  EXPECT_EQ(v.height_all_px, 59u);
+}
+
+TEST(ScoreLayer, NaNSlopesFallBackToTheCellHeight) {
+  // CCM cells that are not evaluable publish NaN slopes (SPEC 9): the query is then the
+  // cell height, not NaN and not a plane through garbage.
+  LayerMaps m = small_map();
+  m.slope_x.reset(2, 2, 0.04, 0.04, 0.04, 0.5f);
+  m.slope_y.reset(2, 2, 0.04, 0.04, 0.04, -0.25f);
+  m.slope_x.at(1, 1) = std::numeric_limits<float>::quiet_NaN();
+  m.slope_y.at(1, 1) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NEAR(layer_height_at(m, 0.075, 0.005), 0.102, 1e-7);
+  // The neighbouring cell (0, 1), centre (0.06, 0.06), keeps its plane.
+  EXPECT_NEAR(layer_height_at(m, 0.075, 0.075), 0.1 + 0.5 * 0.015 - 0.25 * 0.015, 1e-7);
+  // With every slope NaN, scoring equals that of the layer without slope grids (a NaN
+  // query would drop the pixels from the RMS instead).
+  m.slope_x.values.assign(4, std::numeric_limits<float>::quiet_NaN());
+  m.slope_y.values.assign(4, std::numeric_limits<float>::quiet_NaN());
+  ASSERT_TRUE(m.has_plane());
+  const MetricSums with_nan = score_layer(m, small_truth(), Pose3d::Identity(), 0.03);
+  const MetricSums without = score_layer(small_map(), small_truth(), Pose3d::Identity(), 0.03);
+  EXPECT_EQ(with_nan.height_px, 43u);
+  EXPECT_EQ(with_nan.sq_error_sum_m2, without.sq_error_sum_m2);
+  EXPECT_EQ(with_nan.violation_px, without.violation_px);
+}
+
+TEST(ScoreLayer, NearSumsCountOnlyPixelsInTheDiscAroundTheRover) {
+  // Disc of radius 3.5 cm around W (0, 0.08), the top-left corner: pixel centres at
+  // (0.005 + 0.01 i, 0.075 - 0.01 j) are inside for (i, j) in {0,1,2}^2 minus (2, 2)
+  // (d^2 = 0.00125 > 0.001225): 8 pixels, the 4 obstacle pixels and 4 free pixels of the
+  // hazard cell (0, 0), i.e. 4 false alarms.
+  const NearRegion near{0.0, 0.08, 0.035};
+  MetricSums n;
+  const MetricSums s = score_layer(small_map(), small_truth(), Pose3d::Identity(), 0.03, nullptr,
+                                   &near, &n);
+  EXPECT_EQ(s.extent_px, 64u);  // the window's sums are unaffected
+  EXPECT_EQ(s.false_alarm_px, 28u);
+  EXPECT_EQ(n.extent_px, 8u);
+  EXPECT_EQ(n.known_px, 8u);
+  EXPECT_EQ(n.gt_hazard_px, 4u);
+  EXPECT_EQ(n.gt_hazard_found_px, 4u);
+  EXPECT_EQ(n.false_alarm_px, 4u);
+  EXPECT_EQ(n.missed_px, 0u);
+  EXPECT_DOUBLE_EQ(n.pixel_area_m2, 1e-4);
+  LayerMaps blind = small_map();
+  blind.hazard.at(0, 0) = 1.0f;
+  score_layer(blind, small_truth(), Pose3d::Identity(), 0.03, nullptr, &near, &n);
+  EXPECT_EQ(n.missed_px, 4u);  // recomputed, not accumulated onto the previous call
+  EXPECT_EQ(n.false_alarm_px, 0u);
+  EXPECT_EQ(derive_metrics(n).hazard_recall, 0.0);
+
+  // The disc is tested in W, where the rover truly is, not in the (shifted) map frame:
+  // the one-column window of PixelsOutsideTheWindowAreNotScored holds W x in [0.04, 0.08);
+  // around W (0.08, 0.08) the same 8-pixel pattern (mirrored) falls inside it. In the map
+  // frame those pixels sit 4 cm further left, all farther than 3.5 cm.
+  LayerMaps column;
+  column.hazard.reset(2, 1, 0.04, 0.02, 0.04, 1.0f);
+  Pose3d T = Pose3d::Identity();
+  T.translation() = Eigen::Vector3d(-0.04, 0.0, 0.0);
+  const NearRegion corner{0.08, 0.08, 0.035};
+  score_layer(column, small_truth(), T, 0.03, nullptr, &corner, &n);
+  EXPECT_EQ(n.extent_px, 8u);
+  const NearRegion negative{0.0, 0.0, -1.0};
+  EXPECT_THROW(score_layer(column, small_truth(), T, 0.03, nullptr, &negative, &n), Error);
+}
+
+TEST(MetricSums, NewMetricsPoolExactlyThroughSums) {
+  // Frame a: 10 obstacle pixels, 2 found, 6 unknown; frame b: 2 obstacle pixels, both
+  // found. Pooled recall 4/12 and unknown 6/12, not the means of the frames' fractions
+  // (0.6 and 0.3).
+  MetricSums a, b;
+  a.pixel_area_m2 = b.pixel_area_m2 = 1e-4;
+  a.gt_hazard_px = 10, a.gt_hazard_known_px = 4, a.gt_hazard_found_px = 2, a.missed_px = 2;
+  b.gt_hazard_px = 2, b.gt_hazard_known_px = 2, b.gt_hazard_found_px = 2;
+  a.height_all_px = 3, a.sq_error_all_sum_m2 = 3 * 0.01 * 0.01;
+  b.height_all_px = 1, b.sq_error_all_sum_m2 = 0.05 * 0.05;
+  a.variance_all_px = 4, a.violation_all_px = 1;
+  b.variance_all_px = 1, b.violation_all_px = 1;
+  MetricSums p = a;
+  p += b;
+  const LayerMetrics m = derive_metrics(p);
+  EXPECT_NEAR(m.hazard_recall, 4.0 / 12.0, 1e-15);
+  EXPECT_NEAR(m.hazard_unknown, 6.0 / 12.0, 1e-15);
+  EXPECT_NEAR(m.height_rms_all_m, std::sqrt((3e-4 + 2.5e-3) / 4.0), 1e-15);
+  EXPECT_NEAR(m.variance_violation_all, 2.0 / 5.0, 1e-15);
+  EXPECT_EQ(m.height_samples_all, 4u);
+}
+
 TEST(ScoreLayer, RejectsMismatchedGrids) {
   GroundTruth gt = small_truth();
   gt.hazard.reset(4, 4, 0.01, 0.04, 0.04, 0.0f);

@@ -199,6 +199,13 @@ inline void write_oracle_run(const std::filesystem::path& run, const Config& con
   }
 }
 
+/// Writes a hazard-only map of a frame, e.g. footprint_hazard.jdem (what the pipeline
+/// writes beside fused_hazard.jdem).
+inline void write_hazard_map(const std::filesystem::path& run, const std::string& frame,
+                             const std::string& file, const DenseGrid& hazard) {
+  write_jdem(run / "frames" / frame / file, to_jdem(hazard, "hazard", "class", frame));
+}
+
 /// Two layers: CCM 4 cm x 40 (h_min 3 cm) and Kalman 8 cm x 20 (roughness threshold
 /// 5 cm, so h_min 5 cm), insertion all_layers.
 inline Config oracle_config() {

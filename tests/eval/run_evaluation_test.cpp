@@ -52,10 +52,11 @@ struct Oracle {
     hazmap::testing::write_poses(seq / "poses.txt", frames, {{0.0, 0.0}, {0.04, 0.0}});
     hazmap::testing::write_oracle_run(run, config, frames, per_frame);
   }
-  RunEvaluation evaluate() const {
+  RunEvaluation evaluate(double near_radius_m = -1.0) const {
     EvaluationOptions o;
     o.run_dir = run;
     o.sequence_dir = seq;
+    o.near_radius_m = near_radius_m;
     return evaluate_run(o);
   }
 };
@@ -139,13 +140,13 @@ TEST(RunEvaluation, DriftedRunIsScoredAtTheTruePose) {
   t.write(w, {layers, layers});
   hazmap::testing::write_poses(t.seq / "poses.txt", t.frames, {shift, shift + Eigen::Vector2d(0.04, 0)});
   hazmap::testing::write_poses(t.seq / "poses_true.txt", t.frames, {{0.0, 0.0}, {0.04, 0.0}});
-  const RunEvaluation drifted = t.evaluate();
+  const RunEvaluation drifted = t.evaluate(0.9);
   EXPECT_TRUE(drifted.used_true_poses);
 
   Oracle reference;
   const auto straight = reference.layers(w);
   reference.write(w, {straight, straight});
-  const RunEvaluation truth = reference.evaluate();
+  const RunEvaluation truth = reference.evaluate(0.9);
 
   for (size_t l = 0; l < 2; ++l) {
     const LayerMetrics a = derive_metrics(drifted.pooled[l]), b = derive_metrics(truth.pooled[l]);
@@ -153,6 +154,11 @@ TEST(RunEvaluation, DriftedRunIsScoredAtTheTruePose) {
     EXPECT_NEAR(a.missed_area_m2, 0.0, kAreaTolerance) << l;
     EXPECT_NEAR(a.false_alarm_area_m2, b.false_alarm_area_m2, kAreaTolerance) << l;
     EXPECT_NEAR(a.gt_hazard_known_area_m2, b.gt_hazard_known_area_m2, kAreaTolerance) << l;
+    // --near is centred on the true position: the same disc of ground truth as undrifted
+    // (centred on the drifted position it would hold other pixels).
+    EXPECT_EQ(drifted.near_pooled[l].extent_px, truth.near_pooled[l].extent_px) << l;
+    EXPECT_EQ(drifted.near_pooled[l].gt_hazard_px, truth.near_pooled[l].gt_hazard_px) << l;
+    EXPECT_EQ(drifted.near_pooled[l].false_alarm_px, truth.near_pooled[l].false_alarm_px) << l;
   }
 
   std::filesystem::remove(t.seq / "poses_true.txt");
@@ -181,12 +187,141 @@ TEST(RunEvaluation, HMinOfPiecewiseConstantLayersDefaultsToTheRoughnessThreshold
       "map:\n  layers:\n    - {resolution: 0.04, size: 20, rule: omg, hazard: {kernel: 5}}\n"
       "    - {resolution: 0.08, size: 20, rule: ccm}\n",
       "test");
-  std::string source;
+  // No footprint_hazard.jdem: L0, L1, fused.
+  const std::vector<EvaluatedLayer> layers = evaluated_layers(c, false);
+  ASSERT_EQ(layers.size(), 3u);
   // (D - 1) r tan(20 deg) = 4 * 0.04 * 0.36397 = 0.058235 m.
-  EXPECT_NEAR(layer_h_min(c.map.layers[0], c.hazard, &source), 4 * 0.04 * std::tan(M_PI / 9), 1e-12);
-  EXPECT_EQ(source, "derived roughness threshold");
-  EXPECT_NEAR(layer_h_min(c.map.layers[1], c.hazard, &source), 0.06, 1e-12);
-  EXPECT_EQ(source, "0.75 r");
+  EXPECT_NEAR(layers[0].h_min_m, 4 * 0.04 * std::tan(M_PI / 9), 1e-12);
+  EXPECT_EQ(layers[0].h_min_source, "derived roughness threshold");
+  EXPECT_NEAR(layers[1].h_min_m, 0.06, 1e-12);
+  EXPECT_EQ(layers[1].h_min_source, "0.75 r");
+  // The fused map: SPEC 8.4's default critical height, the finest layer's h_min.
+  EXPECT_EQ(layers[2].name, "fused");
+  EXPECT_EQ(layers[2].rule, "fused");
+  EXPECT_EQ(layers[2].index, -1);
+  EXPECT_EQ(layers[2].hazard_file, "fused_hazard.jdem");
+  EXPECT_DOUBLE_EQ(layers[2].resolution_m, 0.04);
+  EXPECT_NEAR(layers[2].h_min_m, 4 * 0.04 * std::tan(M_PI / 9), 1e-12);
+}
+
+TEST(RunEvaluation, FusedAndFootprintUseTheCriticalHeight) {
+  const Config c = parse_config(
+      "map:\n  layers:\n    - {resolution: 0.04, size: 20, rule: ccm}\n"
+      "    - {resolution: 0.08, size: 20, rule: ccm}\n"
+      "hazard: {critical_height: 0.045}\n",
+      "test");
+  const std::vector<EvaluatedLayer> layers = evaluated_layers(c, true);
+  ASSERT_EQ(layers.size(), 4u);
+  EXPECT_NEAR(layers[0].h_min_m, 0.03, 1e-12);
+  EXPECT_NEAR(layers[1].h_min_m, 0.06, 1e-12);
+  for (size_t i : {2u, 3u}) {
+    EXPECT_DOUBLE_EQ(layers[i].h_min_m, 0.045) << i;
+    EXPECT_EQ(layers[i].h_min_source, "hazard.critical_height") << i;
+    EXPECT_DOUBLE_EQ(layers[i].resolution_m, 0.04) << i;
+  }
+  EXPECT_EQ(layers[3].name, "footprint");
+  EXPECT_EQ(layers[3].hazard_file, "footprint_hazard.jdem");
+}
+
+TEST(RunEvaluation, FootprintMapIsScoredWhenWrittenAndSkippedWhenNot) {
+  // Critical height 5 cm while L0's h_min is 3 cm: the footprint (here: the L0 hazard
+  // grid with rock 1 deleted in frame 2) misses exactly rock 1's pixels >= 5 cm.
+  Oracle t;
+  t.config.hazard.critical_height_m = 0.05;
+  const TestWorld w = rocky_world();
+  const auto layers = t.layers(w);
+  t.write(w, {layers, layers});
+  {
+    const RunEvaluation ev = t.evaluate();  // no footprint_hazard.jdem yet
+    ASSERT_EQ(ev.layers.size(), 3u);
+    EXPECT_EQ(ev.layers[2].name, "fused");
+    EXPECT_DOUBLE_EQ(ev.layers[2].h_min_m, 0.05);
+    EXPECT_EQ(testing::read_text(t.run / "eval" / "metrics.csv").find("footprint"),
+              std::string::npos);
+  }
+  auto without_rock = layers[0];
+  hazmap::testing::delete_rock(without_rock, w.rocks[1].x_m, w.rocks[1].y_m,
+                               w.rocks[1].radius_m + 0.08);
+  hazmap::testing::write_hazard_map(t.run, t.frames[0], "footprint_hazard.jdem", layers[0].hazard);
+  // Only one frame has it: skipped, with a warning, not an error.
+  EXPECT_EQ(t.evaluate().layers.size(), 3u);
+  hazmap::testing::write_hazard_map(t.run, t.frames[1], "footprint_hazard.jdem",
+                                    without_rock.hazard);
+  const RunEvaluation ev = t.evaluate();
+  ASSERT_EQ(ev.layers.size(), 4u);
+  EXPECT_EQ(ev.layers[3].name, "footprint");
+  EXPECT_DOUBLE_EQ(ev.layers[3].h_min_m, 0.05);
+  const LayerMetrics first = derive_metrics(ev.sums[0][3]);
+  const LayerMetrics second = derive_metrics(ev.sums[1][3]);
+  EXPECT_EQ(first.missed_area_m2, 0.0);
+  EXPECT_NEAR(first.hazard_recall, 1.0, 1e-15);
+  const double rock1 = w.rock_pixels_at_least(1, 0.05) * kPixelArea;
+  double all = 0;
+  for (size_t k = 0; k < w.rocks.size(); ++k) all += w.rock_pixels_at_least(k, 0.05) * kPixelArea;
+  ASSERT_LT(rock1, w.rock_pixels_at_least(1, 0.03) * kPixelArea);  // h_min matters here
+  EXPECT_NEAR(second.missed_area_m2, rock1, kAreaTolerance);
+  EXPECT_NEAR(second.gt_hazard_area_m2, all, kAreaTolerance);
+  EXPECT_NEAR(second.hazard_recall, 1.0 - rock1 / all, 1e-12);
+  EXPECT_EQ(second.hazard_unknown, 0.0);
+  const std::string csv = testing::read_text(t.run / "eval" / "metrics.csv");
+  EXPECT_NE(csv.find("\n000001,1,footprint,0.04,footprint,0.05,"), std::string::npos) << csv;
+  const std::string json = testing::read_text(t.run / "eval" / "metrics.json");
+  EXPECT_NE(json.find("\"footprint\""), std::string::npos);
+  EXPECT_NE(testing::read_text(t.run / "eval" / "report.html").find("footprint"),
+            std::string::npos);
+}
+
+TEST(RunEvaluation, NearMetricsCountTheGroundTruthAroundTheRover) {
+  // Poses (0, 0) and (0.04, 0), windows x in [0.16, 1.76), |y| < 0.8. Within 0.9 m of
+  // the rover lies all of rock 0 (centre 0.67 m away, radius 0.10 m) and none of rocks 1
+  // and 2 (their nearest points >= 1.19 m away). Frame 2 deletes rock 1 from L0: missed
+  // overall, not near.
+  Oracle t;
+  const TestWorld w = rocky_world();
+  const auto good = t.layers(w);
+  auto bad = good;
+  hazmap::testing::delete_rock(bad[0], w.rocks[1].x_m, w.rocks[1].y_m, w.rocks[1].radius_m + 0.08);
+  t.write(w, {good, bad});
+  const double R = 0.9;
+  const RunEvaluation ev = t.evaluate(R);
+  ASSERT_EQ(ev.near_sums.size(), 2u);
+  // Independent count of the GT pixels in each frame's disc and window.
+  const DenseGrid g = w.grid();
+  const double rover_x[] = {0.0, 0.04};
+  for (size_t f = 0; f < 2; ++f) {
+    std::size_t in_disc = 0;
+    for (int r = 0; r < g.rows; ++r)
+      for (int c = 0; c < g.cols; ++c) {
+        const double x = g.x_of_col(c), y = g.y_of_row(r);
+        if (x >= 0.16 && x < 1.76 && std::abs(y) < 0.8 &&
+            std::hypot(x - rover_x[f], y) <= R)
+          ++in_disc;
+      }
+    for (size_t l = 0; l < 3; ++l) EXPECT_EQ(ev.near_sums[f][l].extent_px, in_disc) << f << l;
+  }
+  const MetricSums& near_bad = ev.near_sums[1][0];
+  EXPECT_EQ(near_bad.gt_hazard_px, static_cast<std::size_t>(w.rock_pixels_at_least(0, 0.03)));
+  EXPECT_EQ(near_bad.missed_px, 0u);
+  EXPECT_EQ(derive_metrics(near_bad).hazard_recall, 1.0);
+  EXPECT_GT(ev.sums[1][0].missed_px, 0u);  // rock 1 is missed, outside the disc
+  // Pooled near sums are the frames' sums.
+  EXPECT_EQ(ev.near_pooled[0].extent_px, ev.near_sums[0][0].extent_px + near_bad.extent_px);
+
+  const std::string csv = testing::read_text(t.run / "eval" / "metrics.csv");
+  for (const char* k : {"near_hazard_recall", "near_hazard_unknown", "near_missed_m2",
+                        "near_false_alarm_fraction", "hazard_recall", "variance_violation_all",
+                        "height_rms_all_m"})
+    EXPECT_NE(csv.find(k), std::string::npos) << k;
+  EXPECT_NE(testing::read_text(t.run / "eval" / "summary.csv").find("near_hazard_recall"),
+            std::string::npos);
+  const std::string json = testing::read_text(t.run / "eval" / "metrics.json");
+  EXPECT_NE(json.find("\"near_radius_m\""), std::string::npos);
+  EXPECT_NE(json.find("\"near_missed_m2\""), std::string::npos);
+  // Without --near nothing near_ is computed or written.
+  const RunEvaluation plain = t.evaluate();
+  EXPECT_TRUE(plain.near_sums.empty());
+  EXPECT_EQ(testing::read_text(t.run / "eval" / "metrics.csv").find("near_"), std::string::npos);
+  EXPECT_EQ(testing::read_text(t.run / "eval" / "metrics.json").find("near_"), std::string::npos);
 }
 
 }  // namespace

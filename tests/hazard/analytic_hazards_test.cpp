@@ -39,7 +39,7 @@ using Visible = std::function<bool(double, double)>;
 
 std::vector<LayerView> map_surface(const Config& config, const Surface& h, double half_m,
                                    double spacing_m, double sigma_m, unsigned seed = 1,
-                                   const Visible& visible = nullptr) {
+                                   const Visible& visible = nullptr, double lateral_sigma_m = 0.001) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma_m);
   std::uniform_real_distribution<double> jitter(-0.5, 0.5);
@@ -50,7 +50,7 @@ std::vector<LayerView> map_surface(const Config& config, const Surface& h, doubl
       if (visible && !visible(px, py)) continue;
       Measurement m{};
       m.p_W = Eigen::Vector3f(float(px), float(py), float(h(px, py) + noise(rng)));
-      m.cov_xx = m.cov_yy = float(1e-6);
+      m.cov_xx = m.cov_yy = float(lateral_sigma_m * lateral_sigma_m);
       m.cov_zz = float(sigma_m * sigma_m);
       cloud.push_back(m);
     }
@@ -198,18 +198,22 @@ TEST(AnalyticHazards, TenCentimetreRockIsAHazardOnThe4And8CentimetreLayers) {
 }
 
 TEST(AnalyticHazards, NoisyFarPlaneIsUnknownNotHazardOnEveryLayer) {
-  // Far ground: few points per cell, each with 4 cm height sigma (stereo at a few metres).
-  // Nothing there proves a hazard, and nothing proves the ground clear of 3 cm rocks.
+  // Far ground as stereo sees it at ~3 m: few points per cell, each with 4 cm height and
+  // 6 mm lateral sigma. Layers take only points whose noise suits them (max_std_ratio 1,
+  // as the shipped configs): the 1 cm layer gets none. Nothing proves a hazard there, and
+  // nothing proves the ground clear of 3 cm rocks.
   Config config = analytic_config(kAllLayers);
-  const auto views = map_surface(
-      config, [](double, double) { return 0.0; }, 1.4, 0.02, 0.04);
+  for (auto& l : config.map.layers) l.max_std_ratio = 1.0;
+  auto flat = [](double, double) { return 0.0; };
+  const auto views = map_surface(config, flat, 1.4, 0.02, 0.04, 1, nullptr, 0.006);
   for (size_t i = 0; i < views.size(); ++i) EXPECT_EQ(count(views[i].hazard).hazard, 0) << "layer " << i;
   EXPECT_EQ(count(views[0].hazard).traversable, 0);
   EXPECT_EQ(count(views[1].hazard).traversable, 0);
-  // The thesis' plain comparisons (k = 0) turn the same noise into hazards.
+  // The thesis' plain comparisons (k = 0), without gating, turn the same noise into
+  // hazards on the 1 cm layer.
   config.hazard.k_sigma = 0;
-  const auto plain = map_surface(
-      config, [](double, double) { return 0.0; }, 1.4, 0.02, 0.04);
+  for (auto& l : config.map.layers) l.max_std_ratio = 0.0;
+  const auto plain = map_surface(config, flat, 1.4, 0.02, 0.04, 1, nullptr, 0.006);
   EXPECT_GT(count(plain[0].hazard).hazard, 1000);
 }
 

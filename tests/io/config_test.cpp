@@ -120,7 +120,12 @@ TEST(Config, EveryShippedConfigLoadsAndMatchesTheThesisTables) {
   ASSERT_EQ(flight.map.layers.size(), 4u);
   EXPECT_EQ(flight.map.layers[0].rule, RuleKind::kalman);
   for (size_t i = 1; i < 4; ++i) EXPECT_EQ(flight.map.layers[i].rule, RuleKind::ccm);
-  for (const auto& l : flight.map.layers) EXPECT_GE(l.resolution_m * l.size, 10.0 - 1e-9);
+  // SPEC 11 / thesis 8.1: only the coarsest layer covers 10 m; the 1 cm layer is small
+  // (1.28-2.56 m), so that it maps only points whose noise suits it.
+  EXPECT_GE(flight.map.layers.back().resolution_m * flight.map.layers.back().size, 10.0 - 1e-9);
+  const double fine_extent = flight.map.layers[0].resolution_m * flight.map.layers[0].size;
+  EXPECT_GE(fine_extent, 1.28 - 1e-9);
+  EXPECT_LE(fine_extent, 2.56 + 1e-9);
   const Config pwc = load_config(testing::source_dir() / "config/thesis_pwc.yaml");
   const double thresholds[] = {0.025, 0.073, 0.30, 0.70};
   const int kernels[] = {7, 5, 5, 3};

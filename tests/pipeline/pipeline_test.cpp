@@ -58,7 +58,9 @@ TEST(Pipeline, FlatGroundIsMappedLevelAndTraversable) {
   EXPECT_LT(err[err.size() / 2], 0.003f);         // median |h| < 3 mm
   EXPECT_LT(err[err.size() * 99 / 100], 0.015f);  // 99th percentile < 1.5 cm
   EXPECT_EQ(hazards, 0);
-  EXPECT_GT(traversable, 2000);
+  // Traversable needs proof: a full kernel and the whole wheel ring (15 cm around the
+  // cell) observed, which about half of the known wedge has after 3 frames.
+  EXPECT_GT(traversable, 1000);
 }
 
 TEST(Pipeline, RockIsAHazardAndOnlyNearTheRock) {
@@ -101,7 +103,7 @@ TEST(Pipeline, SampleSequenceRunWritesAllOutputsAndShowsAllThreeClasses) {
   int count[3] = {0, 0, 0};
   for (float v : hazard.values) count[static_cast<int>(v)]++;
   EXPECT_GT(count[0], 100) << "unknown";
-  EXPECT_GT(count[1], 1000) << "traversable";
+  EXPECT_GT(count[1], 500) << "traversable";
   EXPECT_GT(count[2], 10) << "hazard";
   // The PNG shows the same three palette colours.
   const cv::Mat png = read_image(last / "L0_hazard.png");

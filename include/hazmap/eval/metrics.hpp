@@ -10,12 +10,21 @@
 //   - height error e = h_map(q) - z_gt, with q the pixel centre in the map frame and
 //     z_gt the GT height moved into the map frame; h_map is the cell height (piecewise
 //     constant) or the cell plane h + slope_x dx + slope_y dy (CCM, sub-cell);
-//     height RMS is over known pixels whose GT hazard is 0;
+//     height RMS is over known pixels whose GT hazard is 0; height RMS "all" over every
+//     pixel with a published (finite) height whose GT hazard is 0, unknown class included
+//     (a consumer reads those heights too; obstacles stay out of both, since no cell
+//     height is meant to follow a rock's shape);
+//   - hazard recall: of the GT obstacle pixels (>= h_min) in the window, the fraction
+//     the map labels hazard; hazard unknown: the fraction it labels unknown (recall +
+//     unknown + missed share = 1);
 //   - missed hazard: GT obstacle height >= h_min but the map says traversable;
 //     false alarm: GT obstacle height 0 but the map says hazard; pixels with an obstacle
 //     lower than h_min are scored neither way;
 //   - variance violation: known pixels with |e| > 3 sqrt(variance) (all known pixels
-//     with a finite variance, obstacles included, as SPEC 10 states).
+//     with a finite variance, obstacles included, as SPEC 10 states); "all": the same
+//     over every pixel with a finite published height and variance, unknown class included.
+// Optionally the same counts restricted to GT pixels within a radius of a point of W
+// (the rover's true position: `evaluate --near R`).
 // Areas are pixel counts times the GT pixel area.
 
 #include <cstddef>
@@ -57,10 +66,15 @@ struct MetricSums {
   double sq_error_sum_m2 = 0.0;     ///< sum of e^2 over height_px
   std::size_t gt_hazard_px = 0;     ///< GT obstacle >= h_min, inside the window
   std::size_t gt_hazard_known_px = 0;
+  std::size_t gt_hazard_found_px = 0;  ///< ... the map labels hazard
   std::size_t missed_px = 0;
   std::size_t false_alarm_px = 0;
   std::size_t variance_px = 0;      ///< known pixels with finite height and variance
   std::size_t violation_px = 0;     ///< ... with |e| > 3 sigma
+  std::size_t height_all_px = 0;    ///< finite map height, GT hazard 0, any class
+  double sq_error_all_sum_m2 = 0.0; ///< sum of e^2 over height_all_px
+  std::size_t variance_all_px = 0;  ///< finite map height and variance, any class
+  std::size_t violation_all_px = 0; ///< ... with |e| > 3 sigma
   double pixel_area_m2 = 0.0;
 
   MetricSums& operator+=(const MetricSums& o);
@@ -82,6 +96,11 @@ struct LayerMetrics {
   double false_alarm_area_m2 = 0.0;
   double false_alarm_fraction = kNaN;  ///< false alarm / known area (SPEC 10)
   double variance_violation = kNaN;    ///< fraction of known pixels beyond 3 sigma
+  double hazard_recall = kNaN;         ///< GT obstacle pixels labelled hazard / all of them
+  double hazard_unknown = kNaN;        ///< GT obstacle pixels labelled unknown / all of them
+  double height_rms_all_m = kNaN;      ///< over every published height (GT hazard 0)
+  std::size_t height_samples_all = 0;
+  double variance_violation_all = kNaN;  ///< over every published height with a variance
 };
 
 LayerMetrics derive_metrics(const MetricSums& sums);
@@ -104,15 +123,28 @@ struct ErrorMaps {
   DenseGrid outcome;      ///< PixelOutcome values
 };
 
+/// A disc of W (horizontal distance) that a second set of sums is restricted to.
+struct NearRegion {
+  double x_m = 0.0, y_m = 0.0;  ///< centre in W (the rover's true position)
+  double radius_m = 0.0;
+  bool contains(double x, double y) const {
+    return (x - x_m) * (x - x_m) + (y - y_m) * (y - y_m) <= radius_m * radius_m;
+  }
+};
+
 /// Scores one layer. `T_map_W` moves true-world points into the map frame (identity
 /// when the run used true poses; see run_evaluation.hpp for the drifted case).
-/// `h_min_m` > 0. When `maps` is not null, fills them. Throws Error on empty ground
-/// truth, a non-positive h_min or grids whose sizes disagree.
+/// `h_min_m` > 0. When `maps` is not null, fills them. When `near` and `near_sums` are
+/// not null, `*near_sums` receives the sums over the GT pixels whose centre (in W) lies
+/// in `near`. Throws Error on empty ground truth, a non-positive h_min, a negative near
+/// radius or grids whose sizes disagree.
 MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
-                       double h_min_m, ErrorMaps* maps = nullptr);
+                       double h_min_m, ErrorMaps* maps = nullptr, const NearRegion* near = nullptr,
+                       MetricSums* near_sums = nullptr);
 
 /// Map height at map-frame point (x, y): the cell's height, or for a layer with planes
-/// the plane through it; NaN when outside the window or unknown.
+/// the plane through it; NaN when outside the window or unknown. A CCM cell whose slopes
+/// are NaN (not evaluable) gives its cell height.
 double layer_height_at(const LayerMaps& layer, double x_m, double y_m);
 
 }  // namespace hazmap::eval

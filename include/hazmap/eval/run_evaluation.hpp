@@ -1,7 +1,8 @@
 #pragma once
 // `hazmap evaluate`: scores every written frame and layer of a run (OUT of `hazmap run`)
 // against the ground truth of its sequence (SPEC 10), and writes
-//   metrics.csv            one row per frame and layer (the fused map is layer "fused")
+//   metrics.csv            one row per frame and layer (the fused and footprint maps are
+//                          layers "fused" and "footprint")
 //   summary.csv            one row per layer, pooled over frames (what sweeps read)
 //   metrics.json           the same per-layer summary with the settings behind it
 //   metrics_over_time.png  each metric against the frame, one line per layer
@@ -10,7 +11,8 @@
 //
 // Inputs. RUN/summary.json ("settings_yaml": the configuration used, for the layers'
 // resolution, rule and hazard parameters), RUN/frames/<frame>/L<i>_{height,variance,
-// hazard}.jdem (+ L<i>_slope_{x,y}.jdem for CCM) and fused_hazard.jdem; SEQ/gt_height.jdem,
+// hazard}.jdem (+ L<i>_slope_{x,y}.jdem for CCM), fused_hazard.jdem and, when the run
+// wrote it in every frame, footprint_hazard.jdem (else that map is skipped); SEQ/gt_height.jdem,
 // SEQ/gt_hazard.jdem, SEQ/poses.txt and, if the run drove on drifted poses,
 // SEQ/poses_true.txt.
 //
@@ -24,11 +26,14 @@
 // placed with older, smaller drift; that residual misplacement is what a drift test
 // measures.) Without poses_true.txt, T_map_W = identity.
 //
-// h_min per layer (what counts as an obstacle the layer must find): the layer's
-// hazard.h_min when set; else for CCM layers 0.75 r (SPEC 8.2, the pipeline's default);
-// for piecewise-constant layers the roughness threshold (given, or (D - 1) r tan(max_slope)
-// as the pipeline derives it): a step at least that high inside the kernel is what the
-// roughness test is built to flag. The fused map uses the smallest h_min of its layers.
+// h_min per layer (what counts as an obstacle the layer must find) is the pipeline's own,
+// from resolve_hazard_params (hazard/hazard_params.hpp): hazard.h_min when set; else
+// 0.75 r for CCM layers; else the roughness threshold for piecewise-constant layers. The
+// fused and footprint maps use hazard.critical_height (SPEC 8.4, 10).
+//
+// Near metrics (--near R): the same sums restricted to GT pixels within R metres
+// (horizontally, in W) of the rover's true position at that frame (poses_true.txt when
+// present, else poses.txt), reported with a near_ prefix.
 
 #include <filesystem>
 #include <string>
@@ -47,16 +52,19 @@ struct EvaluationOptions {
   /// Frames that get an errors_<frame>.png: names, or "all"; empty: the last frame.
   std::vector<std::string> error_map_frames;
   bool write_report = true;  ///< report.html
+  double near_radius_m = -1.0;  ///< --near R; negative: no near metrics
+  bool near_enabled() const { return near_radius_m >= 0.0; }
 };
 
-/// What is scored as a layer: "L<i>" or "fused".
+/// What is scored as a layer: "L<i>", "fused" or "footprint".
 struct EvaluatedLayer {
   std::string name;
-  int index = -1;            ///< layer index, -1 for the fused map
+  int index = -1;            ///< layer index, -1 for the fused and footprint maps
   double resolution_m = 0.0;
-  std::string rule;          ///< "ccm", "omg", ..., "fused"
+  std::string rule;          ///< "ccm", "omg", ..., "fused", "footprint"
   double h_min_m = 0.0;
   std::string h_min_source;  ///< "hazard.h_min", "0.75 r", "roughness threshold", ...
+  std::string hazard_file;   ///< the hazard-only map's file (index -1), e.g. fused_hazard.jdem
 };
 
 struct RunEvaluation {
@@ -64,12 +72,16 @@ struct RunEvaluation {
   std::vector<std::string> frames;              ///< written frames, sorted
   std::vector<std::vector<MetricSums>> sums;    ///< [frame][layer]
   std::vector<MetricSums> pooled;               ///< [layer], over all frames
+  double near_radius_m = -1.0;                  ///< negative: no near metrics
+  std::vector<std::vector<MetricSums>> near_sums;  ///< [frame][layer], with --near
+  std::vector<MetricSums> near_pooled;             ///< [layer], with --near
   bool used_true_poses = false;                 ///< poses_true.txt was found
   std::filesystem::path out_dir;
 };
 
-/// h_min of a layer as documented above; `source` says where it came from.
-double layer_h_min(const LayerConfig& layer, const HazardConfig& hazard, std::string* source);
+/// The maps scored for a run of `config`: its layers, "fused" and, when
+/// `with_footprint`, "footprint", with their h_min as documented above.
+std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_footprint);
 
 /// The configuration a run used, from RUN/summary.json "settings_yaml". Throws Error
 /// naming the file when it is missing or has no settings.

@@ -40,8 +40,9 @@ class Evidence {
   /// Evidence only: a statistic that can show a hazard but, being partial (one axis of a
   /// plane, part of a ring), can never prove the cell traversable nor block the proof of
   /// the complete tests.
-  void evidence(double s, double sigma, double threshold) {
-    if (std::isfinite(s) && std::isfinite(sigma) && s - k_ * sigma > threshold) hazard_ = true;
+  void evidence(double s, double sigma, double threshold) { evidence(s, sigma, threshold, k_); }
+  void evidence(double s, double sigma, double threshold, double k_hazard) {
+    if (std::isfinite(s) && std::isfinite(sigma) && s - k_hazard * sigma > threshold) hazard_ = true;
   }
   /// A test that could not be run (missing data): the cell cannot be proven traversable.
   void missing() { proven_ = false; }

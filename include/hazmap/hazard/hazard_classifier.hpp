@@ -40,11 +40,12 @@ class HazardClassifier {
 /// SPEC 8.1 + 8.3: roughness kernel and step above the ring, on cell heights.
 class PiecewiseConstantClassifier final : public HazardClassifier {
  public:
-  using HazardClassifier::HazardClassifier;
+  explicit PiecewiseConstantClassifier(const LayerHazardParams& params);
   void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
 
  private:
   RoughnessFilter filter_;
+  int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
 };
 

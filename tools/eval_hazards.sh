@@ -1,0 +1,208 @@
+#!/usr/bin/env bash
+# Hazard acceptance evaluation (issue 19): renders a fixed set of synthetic scenarios once,
+# maps each with every given configuration (`hazmap run`), scores the maps
+# (`hazmap evaluate --near`), and prints one compact table per configuration.
+#
+#   tools/eval_hazards.sh config/cadre_flight.yaml config/thesis_ccm.yaml out/eval_hazards
+#   tools/eval_hazards.sh --jobs 2 --frames 15 config/default.yaml out/eh
+#
+# Scenarios (seeds 901.. that no test uses), 0.4 image scale, 4 cm per frame:
+#   ramp15, ramp25   ramp of 15 / 25 deg (a 25 deg ramp exceeds max_slope 20 deg)
+#   craters          fractal ground with craters
+#   sine             sine wave (steepest slope 17.4 deg)
+#   rocks3..rocks24  hemispherical rocks of radius (= height) 3, 6, 12, 24 cm, unburied,
+#                    beside the path (15 cm clear of it, as tools/sweep.sh lays them out)
+#
+# Layout of OUT: seq/<scenario>/ (sequences, cached: re-rendered only when their
+# simulate arguments change), <config>/<scenario>/ (the run; eval/ inside it),
+# logs/<job>.log, tables.txt (what is printed at the end).
+#
+# Table columns, per layer and the fused and footprint maps, pooled over the frames:
+#   FA%      false-alarm area / known area
+#   miss_cm2 missed obstacle area [cm^2] (obstacles >= the map's h_min called traversable)
+#   miss_c   the same in cells of that map (area / cell area)
+#   rec%     hazard recall: obstacle pixels (>= h_min) labelled hazard / all of them
+#   nrec%    the same within --near metres of the rover's true position
+#   unk%     obstacle pixels labelled unknown
+#   vv_all%  variance violations over every published height (|h - h_gt| > 3 sigma)
+#   rms_all  height RMS over every published height [cm]
+# "-" = undefined (no obstacle of that height in view, or a hazard-only map).
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+self="$repo/tools/eval_hazards.sh"
+
+usage() {
+  awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$self"
+  cat <<'EOF'
+Usage: tools/eval_hazards.sh [options] CONFIG.yaml [CONFIG.yaml ...] OUT
+Options:
+  --frames N       frames per sequence (default 30; a 30-frame sequence takes about a
+                   minute to render on one core)
+  --scale S        image scale (default 0.4)
+  --near R         radius of the near metrics in metres (default 1.5)
+  --jobs N         parallel jobs (default 1: the machine is shared)
+  --only LIST      comma-separated scenarios (default: all eight)
+  --hazmap BIN     the hazmap executable (default $HAZMAP or build/hazmap)
+  --tables-only    print the tables of what OUT already holds
+EOF
+}
+
+# ---------------------------------------------------------------------------------------
+# Scenario table: name, seed, simulate arguments.
+scenario_args() {
+  case "$1" in
+    ramp15) echo "--scenario ramp --ramp-deg 15 --seed 901" ;;
+    ramp25) echo "--scenario ramp --ramp-deg 25 --seed 902" ;;
+    craters) echo "--scenario craters --seed 903" ;;
+    sine) echo "--scenario sine --seed 904" ;;
+    rocks3 | rocks6 | rocks12 | rocks24)
+      local r_cm="${1#rocks}" seed
+      case "$r_cm" in 3) seed=905 ;; 6) seed=906 ;; 12) seed=907 ;; 24) seed=908 ;; esac
+      # Layout of tools/sweep.sh: rocks beside the path within reach of the finest layers.
+      awk -v rc="$r_cm" -v seed="$seed" 'BEGIN {
+        r = rc / 100; x0 = 0.3 + r; x1 = x0 + (6 * r > 0.8 ? 6 * r : 0.8); if (x1 > 3.2) x1 = 3.2;
+        y = 0.15 + r + (2 * r > 0.3 ? 2 * r : 0.3);
+        n = r < 0.15 ? 4 : (r < 0.3 ? 3 : 2);
+        printf "--scenario rocks --seed %d --rock-radius %.4f --rock-buried 0 --rock-count %d --rock-box %.4f,%.4f,%.4f --rock-clearance 0.15 --gt-margin 3\n", seed, r, n, x0, x1, y }'
+      ;;
+    *) echo "eval_hazards: unknown scenario '$1'" >&2; return 1 ;;
+  esac
+}
+all_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
+
+# ---------------------------------------------------------------------------------------
+# Jobs (run through xargs, possibly in parallel). Each writes OUT/logs/<name>.log and
+# prints one status line.
+if [ "${1:-}" = "--sim-job" ]; then
+  hazmap="$2" out="$3" common="$4" scenario="$5"
+  dir="$out/seq/$scenario"
+  args="$(scenario_args "$scenario") $common"
+  if [ -f "$dir/.done" ] && [ "$(cat "$dir/.done")" = "$args" ]; then
+    echo "eval_hazards: sequence $scenario cached"
+    exit 0
+  fi
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  read -r -a sim <<<"$args"
+  start=$(date +%s)
+  if "$hazmap" simulate --out "$dir" --ground-truth --quiet "${sim[@]}" >"$out/logs/sim_$scenario.log" 2>&1; then
+    echo "$args" >"$dir/.done"
+    echo "eval_hazards: sequence $scenario rendered in $(($(date +%s) - start)) s"
+  else
+    echo "eval_hazards: simulate $scenario failed, see $out/logs/sim_$scenario.log" >&2
+    exit 1
+  fi
+  exit 0
+fi
+if [ "${1:-}" = "--map-job" ]; then
+  hazmap="$2" out="$3" near="$4" name="$5" config="$6" scenario="$7"
+  dir="$out/$name/$scenario"
+  log="$out/logs/${name}_$scenario.log"
+  rm -rf "$dir"
+  start=$(date +%s)
+  if "$hazmap" run --config "$config" --sequence "$out/seq/$scenario" --out "$dir" --quiet >"$log" 2>&1 &&
+    "$hazmap" evaluate --run "$dir" --sequence "$out/seq/$scenario" --near "$near" --quiet >>"$log" 2>&1; then
+    echo "eval_hazards: $name on $scenario done in $(($(date +%s) - start)) s"
+  else
+    echo "eval_hazards: $name on $scenario failed, see $log" >&2
+    tail -n 3 "$log" >&2
+    exit 1
+  fi
+  exit 0
+fi
+
+# ---------------------------------------------------------------------------------------
+frames=30 scale=0.4 near=1.5 jobs=1 only="" hazmap="${HAZMAP:-$repo/build/hazmap}" tables_only=0
+positional=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --frames) frames="$2"; shift ;;
+    --scale) scale="$2"; shift ;;
+    --near) near="$2"; shift ;;
+    --jobs) jobs="$2"; shift ;;
+    --only) only="$2"; shift ;;
+    --hazmap) hazmap="$2"; shift ;;
+    --tables-only) tables_only=1 ;;
+    -h | --help) usage; exit 0 ;;
+    -*) echo "eval_hazards: unknown option $1 (see --help)" >&2; exit 2 ;;
+    *) positional+=("$1") ;;
+  esac
+  shift
+done
+if [ "${#positional[@]}" -lt 2 ]; then
+  echo "eval_hazards: expected CONFIG... OUT (see --help)" >&2
+  exit 2
+fi
+out="${positional[-1]}"
+configs=("${positional[@]:0:${#positional[@]}-1}")
+scenarios="${only//,/ }"
+: "${scenarios:=$all_scenarios}"
+for s in $scenarios; do scenario_args "$s" >/dev/null || exit 2; done
+[ -x "$hazmap" ] || { echo "eval_hazards: no hazmap executable at $hazmap (build it, or pass --hazmap)" >&2; exit 1; }
+hazmap="$(cd "$(dirname "$hazmap")" && pwd)/$(basename "$hazmap")"
+mkdir -p "$out/logs"
+out="$(cd "$out" && pwd)"
+
+# Configuration names: file stems, which must differ (they name the output folders).
+names=()
+for c in "${configs[@]}"; do
+  [ -f "$c" ] || { echo "eval_hazards: no config file $c" >&2; exit 2; }
+  n="$(basename "$c")"
+  n="${n%.yaml}"
+  n="${n%.yml}"
+  for m in "${names[@]+"${names[@]}"}"; do
+    [ "$m" != "$n" ] || { echo "eval_hazards: two configs named $n" >&2; exit 2; }
+  done
+  names+=("$n")
+done
+
+status=0
+if [ "$tables_only" = 0 ]; then
+  common="--frames $frames --scale $scale"
+  # 1. Sequences (cached).
+  for s in $scenarios; do printf '%s\0' "$s"; done |
+    xargs -0 -n 1 -P "$jobs" "$self" --sim-job "$hazmap" "$out" "$common" || status=1
+  # 2. Maps and evaluations: every config on every scenario that has a sequence.
+  for i in "${!configs[@]}"; do
+    cfg="$(cd "$(dirname "${configs[$i]}")" && pwd)/$(basename "${configs[$i]}")"
+    for s in $scenarios; do
+      if [ -f "$out/seq/$s/.done" ]; then printf '%s\0%s\0%s\0' "${names[$i]}" "$cfg" "$s"; fi
+    done
+  done | xargs -0 -n 3 -P "$jobs" "$self" --map-job "$hazmap" "$out" "$near" || status=1
+fi
+
+# 3. Tables from each run's eval/summary.csv (columns found by name).
+tables="$out/tables.txt"
+: >"$tables"
+for n in "${names[@]}"; do
+  {
+    echo
+    echo "== $n (pooled over the frames; nrec% within ${near} m of the rover) =="
+    printf '%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s\n' scenario map cell_cm hmin_cm \
+      FA% miss_cm2 miss_c rec% nrec% unk% vv_all% rms_all
+    for s in $scenarios; do
+      csv="$out/$n/$s/eval/summary.csv"
+      if [ ! -f "$csv" ]; then
+        printf '%-8s (no evaluation: see %s)\n' "$s" "$out/logs/${n}_$s.log"
+        continue
+      fi
+      awk -F, -v scen="$s" '
+        NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+        function v(k) { return (k in col) ? $(col[k]) : "nan" }
+        function p(x, scale, f) { return (x == "nan" || x == "") ? "-" : sprintf(f, x * scale) }
+        {
+          res = v("resolution_m")
+          cells = (v("missed_m2") == "nan" || res == 0) ? "-" : sprintf("%.1f", v("missed_m2") / (res * res))
+          printf "%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s\n", scen, v("layer"),
+            p(res, 100, "%g"), p(v("h_min_m"), 100, "%.1f"), p(v("false_alarm_fraction"), 100, "%.2f"),
+            p(v("missed_m2"), 1e4, "%.1f"), cells, p(v("hazard_recall"), 100, "%.1f"),
+            p(v("near_hazard_recall"), 100, "%.1f"), p(v("hazard_unknown"), 100, "%.1f"),
+            p(v("variance_violation_all"), 100, "%.2f"), p(v("height_rms_all_m"), 100, "%.2f")
+        }' "$csv"
+    done
+  } | tee -a "$tables"
+done
+echo
+echo "eval_hazards: tables in $tables; per-run reports in $out/<config>/<scenario>/eval/report.html"
+exit "$status"
