@@ -20,34 +20,49 @@ CcmWeighting ccm_weighting(const CcmConfig& ccm) {
   return CcmWeighting::constant;
 }
 
-std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules, std::size_t index) {
+double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
+  const double ratio = layer.max_std_ratio < 0 ? rules.ccm.max_std_ratio : layer.max_std_ratio;
+  return ratio > 0 ? ratio * layer.resolution_m / std::sqrt(12.0) : 0.0;
+}
+
+std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules,
+                                  const HazardConfig& hazard, std::size_t index) {
   const LayerConfig& layer = map.layers[index];
   const bool pooled = map.insertion == "finest_then_pool" && index > 0;
   const int n = layer.size;
   const double r = layer.resolution_m;
+  const double gate = gate_std_m(layer, rules);
   switch (layer.rule) {
     case RuleKind::bananas:
-      return std::make_unique<RollingLayer<BananasRule>>(n, r, BananasRule::Config{}, 0.0, pooled);
+      return std::make_unique<RollingLayer<BananasRule>>(n, r, BananasRule::Config{}, gate, pooled);
     case RuleKind::kalman:
-      return std::make_unique<RollingLayer<KalmanRule>>(n, r, rules.kalman, 0.0, pooled);
+      return std::make_unique<RollingLayer<KalmanRule>>(n, r, rules.kalman, gate, pooled);
     case RuleKind::omg:
       return std::make_unique<RollingLayer<OmgRule>>(
-          n, r, OmgRule::Config{rules.omg.max_weight, rules.omg.decay}, 0.0, pooled);
+          n, r, OmgRule::Config{rules.omg.max_weight, rules.omg.decay, rules.omg.gate_sigma}, gate,
+          pooled);
     case RuleKind::ccm: {
-      const CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
-                                rules.ccm.full_plane};
-      // SPEC 4: drop points whose lateral std exceeds max_std_ratio * r / sqrt(12).
-      const double gate = rules.ccm.max_std_ratio * r / std::sqrt(12.0);
+      CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
+                          rules.ccm.full_plane};
+      cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
       return std::make_unique<RollingLayer<CcmRule>>(n, r, cfg, gate, pooled);
     }
   }
   throw Error("config: key 'map.layers." + std::to_string(index) + ".rule': unknown rule");
 }
 
+std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules, std::size_t index) {
+  return make_layer(map, rules, HazardConfig{}, index);
+}
+
 LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose_uncertainty)
+    : LayerStack(map, rules, HazardConfig{}, pose_uncertainty) {}
+
+LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, const HazardConfig& hazard,
+                       bool pose_uncertainty)
     : pooling_(map.insertion == "finest_then_pool"),
       track_pose_(pose_uncertainty) {
-  for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, i));
+  for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, hazard, i));
   pools_.resize(layers_.size());
   layer_ticks_.assign(layers_.size(), 0);
   if (pooling_)

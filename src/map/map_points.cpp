@@ -18,13 +18,14 @@ float ccm_weight(CcmWeighting weighting, const Measurement& m) {
 void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
   size_ = static_cast<int>(cloud.size());
   const std::size_t padded = cloud.size() + PointChunk::kPad;
-  for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_}) v->resize(padded, 0.0f);
+  for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_, &var_z_}) v->resize(padded, 0.0f);
   for (int i = 0; i < size_; ++i) {
     const Measurement& m = cloud[static_cast<std::size_t>(i)];
     x_[i] = m.p_W.x();
     y_[i] = m.p_W.y();
     z_[i] = m.p_W.z();
     inv_var_z_[i] = 1.0f / m.cov_zz;
+    var_z_[i] = m.cov_zz;
     lateral_var_[i] = std::max(m.cov_xx, m.cov_yy);
   }
   if (weighting == CcmWeighting::constant)
@@ -41,6 +42,7 @@ PointChunk MapPoints::chunk(int begin, int count) const {
   c.inv_var_z = inv_var_z_.data() + begin;
   c.ccm_weight = ccm_weight_.data() + begin;
   c.lateral_var = lateral_var_.data() + begin;
+  c.var_z = var_z_.data() + begin;
   c.size = count;
   return c;
 }

@@ -30,12 +30,15 @@ typedef int Int8 __attribute__((vector_size(32)));
 HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums) {
   const float z0 = run.z[run.begin];
   WeightedSums<Vec4> lanes;
+  Vec4 wv{};
   const Mask4 lane = {0, 1, 2, 3};
   for (int k = run.begin; k < run.end; k += 4) {
     // Lanes past the run's end are zeroed (their values may be anything, even NaN).
     const Mask4 live = (lane + k) < run.end;
-    lanes.add(keep(load(run.w + k), live), keep(load(run.x + k), live), keep(load(run.y + k), live),
+    const Vec4 pw = keep(load(run.w + k), live);
+    lanes.add(pw, keep(load(run.x + k), live), keep(load(run.y + k), live),
               keep(load(run.z + k) - z0, live));
+    wv += pw * keep(load(run.var_z + k), live);
   }
   const double W = total(lanes.w), X = total(lanes.x), Y = total(lanes.y), Z = total(lanes.z);
   const double d = double(z0) - z_ref_m;
@@ -49,6 +52,7 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
   sums.zz += total(lanes.zz) + d * (2.0 * Z + W * d);
   sums.xz += total(lanes.xz) + d * X;
   sums.yz += total(lanes.yz) + d * Y;
+  sums.v += total(wv);
   sums.count += static_cast<std::uint32_t>(run.end - run.begin);
 }
 

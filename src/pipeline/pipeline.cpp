@@ -18,10 +18,11 @@ double ms_since(Clock::time_point start) {
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(config),
       front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
-      map_(config.map, config.rules, config.pose_uncertainty.enabled),
+      map_(config.map, config.rules, config.hazard, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       layer_map_ms_(config.map.layers.size(), 0.0),
       hazard_params_(resolve_hazard_params(config)),
+      layer_gates_(config.map.layers.size()),
       views_(config.map.layers.size()) {
   for (size_t i = 0; i < views_.size(); ++i) {
     classifiers_.push_back(make_hazard_classifier(hazard_params_.layers[i]));
@@ -38,6 +39,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   auto t = Clock::now();
   points_.assign(front_.cloud(), weighting_);
   report.points = front_.cloud().size();
+  report.points_below_ground = front_.points_below_ground();
   report.ms.points_ms = stereo.points_ms + ms_since(t);
 
   t = Clock::now();
@@ -45,6 +47,11 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   map_.begin_frame(robot.x(), robot.y(), noise);
   report.updates = map_.insert(points_, layer_map_ms_.data());
   report.ms.map_ms = ms_since(t);
+  for (size_t i = 0; i < map_.size(); ++i) {
+    layer_gates_[i] = map_.gate_counts(i);
+    report.gated.std_gate += layer_gates_[i].std_gate;
+    report.gated.consistency_gate += layer_gates_[i].consistency_gate;
+  }
 
   t = Clock::now();
   analyse_hazards();

@@ -20,11 +20,13 @@ using Clock = std::chrono::steady_clock;
 struct FrameRecord {
   std::string name;
   size_t points = 0;
+  size_t points_below_ground = 0;  ///< SPEC 3.3, not in `points`
   double read_ms = 0, write_ms = 0;
   StageTimes ms;
   bool written = false;
   std::vector<HazardAreas> areas;  ///< per layer, then fused, footprint (written frames only)
   std::vector<double> layer_map_ms;  ///< each layer's share of the insertion
+  std::vector<GateCounts> layer_gates;  ///< each layer's SPEC 4 gate drops
 };
 
 void write_summary(const std::filesystem::path& path, const Config& config,
@@ -38,11 +40,12 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("config").value(options.config_path.string());
   j.key("frames_selected").value(frames_total);
   j.key("frames_processed").value(frames.size());
-  size_t points = 0;
+  size_t points = 0, below_ground = 0;
   StageTimes sum;
   double read = 0, write = 0;
   for (const auto& f : frames) {
     points += f.points;
+    below_ground += f.points_below_ground;
     sum.rectify_ms += f.ms.rectify_ms;
     sum.disparity_ms += f.ms.disparity_ms;
     sum.points_ms += f.ms.points_ms;
@@ -52,6 +55,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     write += f.write_ms;
   }
   j.key("points_total").value(points);
+  j.key("points_below_ground_total").value(below_ground);
   const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
   j.key("mean_ms_per_frame").begin_object();
   j.key("read").value(read / n);
@@ -68,13 +72,22 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     const LayerConfig& l = config.map.layers[i];
     double layer_ms = 0;
-    for (const auto& f : frames) layer_ms += i < f.layer_map_ms.size() ? f.layer_map_ms[i] : 0.0;
+    GateCounts gated;
+    for (const auto& f : frames) {
+      layer_ms += i < f.layer_map_ms.size() ? f.layer_map_ms[i] : 0.0;
+      if (i < f.layer_gates.size()) {
+        gated.std_gate += f.layer_gates[i].std_gate;
+        gated.consistency_gate += f.layer_gates[i].consistency_gate;
+      }
+    }
     j.begin_object();
     j.key("resolution_m").value(l.resolution_m);
     j.key("size").value(l.size);
     j.key("rule").value(rule_name(l.rule));
     j.key("insert_ms_per_frame").value(layer_ms / n);
     j.key("insert_ns_per_point").value(points ? layer_ms * 1e6 / static_cast<double>(points) : 0.0);
+    j.key("gated_std_total").value(gated.std_gate);
+    j.key("gated_consistency_total").value(gated.consistency_gate);
     j.end_object();
   }
   j.end_array();
@@ -83,6 +96,16 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.begin_object();
     j.key("name").value(f.name);
     j.key("points").value(f.points);
+    j.key("points_below_ground").value(f.points_below_ground);
+    j.key("gated").begin_array();  // per layer, SPEC 4
+    for (size_t i = 0; i < f.layer_gates.size(); ++i) {
+      j.begin_object();
+      j.key("layer").value("L" + std::to_string(i));
+      j.key("std").value(f.layer_gates[i].std_gate);
+      j.key("consistency").value(f.layer_gates[i].consistency_gate);
+      j.end_object();
+    }
+    j.end_array();
     j.key("written").value(f.written);
     j.key("ms").begin_object();
     j.key("read").value(f.read_ms);
@@ -152,6 +175,8 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     rec.points = report.points;
     rec.ms = report.ms;
     rec.layer_map_ms = pipeline.layer_map_ms();
+    rec.points_below_ground = report.points_below_ground;
+    rec.layer_gates = pipeline.layer_gates();
 
     const bool write = i % config.output.every_n == 0 || i == n - 1;
     if (write) {

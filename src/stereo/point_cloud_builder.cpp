@@ -30,20 +30,20 @@ Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
   return T_W_B * T_B_Cr_;
 }
 
-void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
-                              const Pose3d& T_W_B, PointCloud& cloud) const {
-  build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, nullptr);
+std::size_t PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                     const Pose3d& T_W_B, PointCloud& cloud) const {
+  return build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, nullptr);
 }
 
-void PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
-                              const Pose3d& T_W_B, PointCloud& cloud,
-                              std::vector<cv::Point>& pixels) const {
-  build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, &pixels);
+std::size_t PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                     const Pose3d& T_W_B, PointCloud& cloud,
+                                     std::vector<cv::Point>& pixels) const {
+  return build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, &pixels);
 }
 
-void PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
-                                   const Pose3d& T_W_B, PointCloud& cloud,
-                                   std::vector<cv::Point>* pixels) const {
+std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                          const Pose3d& T_W_B, PointCloud& cloud,
+                                          std::vector<cv::Point>* pixels) const {
   cloud.clear();
   if (pixels) pixels->clear();
   const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
@@ -60,6 +60,12 @@ void PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_bel
                        (check_right ? cv::Rect(0, roi_right_.y, disparity_x16.cols,
                                                roi_right_.height)
                                     : cv::Rect(0, 0, disparity_x16.cols, disparity_x16.rows));
+  // SPEC 3.3 below-ground check in the body frame, where the wheel plane is z_B = 0:
+  // z_B = (R_B_C' p_C')_z + t_z needs neither the pose nor a transform of the point.
+  const bool check_ground = stereo_.max_below_ground_m > 0;
+  const Eigen::RowVector3d up_B = T_B_Cr_.linear().row(2);
+  const double ground_z = -stereo_.max_below_ground_m - T_B_Cr_.translation().z();
+  std::size_t below_ground = 0;
   for (int v = roi.y; v < roi.y + roi.height; v += step) {
     const int16_t* row = disparity_x16.ptr<int16_t>(v);
     for (int u = roi.x; u < roi.x + roi.width; u += step) {
@@ -69,6 +75,10 @@ void PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_bel
       if (d < d_min || d > d_max) continue;
       if (check_right && (u - d < right_u_min || u - d > right_u_max)) continue;
       const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d);
+      if (check_ground && up_B.dot(p_C) < ground_z) {
+        ++below_ground;
+        continue;
+      }
       const Eigen::Matrix3d cov_C =
           model_ == SensorModel::axis
               ? covariance_axis(geometry_, p_C.z(), sensor_.pointing_error_px,
@@ -88,6 +98,7 @@ void PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_bel
       if (pixels) pixels->emplace_back(u, v);
     }
   }
+  return below_ground;
 }
 
 }  // namespace hazmap

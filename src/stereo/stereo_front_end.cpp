@@ -38,10 +38,9 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();
-  if (keep_pixels_)
-    builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_);
-  else
-    builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  below_ground_ = keep_pixels_
+                      ? builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_)
+                      : builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
   times.points_ms = ms_since(t);
   return times;
 }

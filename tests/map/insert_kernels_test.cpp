@@ -20,14 +20,22 @@ namespace {
 
 /// Writable arrays behind a PointChunk view (kStride entries each).
 struct ChunkArrays {
-  std::vector<float> x, y, z, inv_var_z, ccm_weight, lateral_var;
+  std::vector<float> x, y, z, inv_var_z, ccm_weight, lateral_var, var_z;
   ChunkArrays() {
-    for (auto* v : {&x, &y, &z, &inv_var_z, &ccm_weight, &lateral_var})
+    for (auto* v : {&x, &y, &z, &inv_var_z, &ccm_weight, &lateral_var, &var_z})
       v->assign(PointChunk::kStride, 0.0f);
   }
   PointChunk view(int size) const {
-    return PointChunk{x.data(),          y.data(),           z.data(), inv_var_z.data(),
-                      ccm_weight.data(), lateral_var.data(), size};
+    PointChunk c;
+    c.x = x.data();
+    c.y = y.data();
+    c.z = z.data();
+    c.inv_var_z = inv_var_z.data();
+    c.ccm_weight = ccm_weight.data();
+    c.lateral_var = lateral_var.data();
+    c.var_z = var_z.data();
+    c.size = size;
+    return c;
   }
 };
 
@@ -62,18 +70,22 @@ TEST(LocatePoints, MatchesScalarFloorAndModulo) {
       std::vector<int> slot(PointChunk::kStride);
       std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
       const float gate = 1.5e-6f;
-      locate(chunk.view(size), w, gate, slot.data(), cx.data(), cy.data());
-      int inside = 0, boundary = 0;
+      const int gated = locate(chunk.view(size), w, gate, slot.data(), cx.data(), cy.data());
+      int inside = 0, boundary = 0, gated_want = 0, gated_boundary = 0;
       for (int i = 0; i < size; ++i) {
         const double fx = (double(chunk.x[i]) - w.x0_m) / r, fy = (double(chunk.y[i]) - w.y0_m) / r;
         // Points within 1e-4 cell of a cell edge may fall either way in float arithmetic.
+        const bool wide = chunk.lateral_var[i] > gate;
         if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) {
           ++boundary;
+          gated_boundary += wide;
           continue;
         }
         const double lx = std::floor(fx), ly = std::floor(fy);
-        const bool in = std::isfinite(fx) && std::isfinite(fy) && lx >= 0 && lx < n && ly >= 0 &&
-                        ly < n && !(chunk.lateral_var[i] > gate);
+        const bool in_window =
+            std::isfinite(fx) && std::isfinite(fy) && lx >= 0 && lx < n && ly >= 0 && ly < n;
+        gated_want += in_window && wide;
+        const bool in = in_window && !wide;
         if (!in) {
           EXPECT_EQ(slot[i], -1) << "point " << i;
           continue;
@@ -86,11 +98,47 @@ TEST(LocatePoints, MatchesScalarFloorAndModulo) {
       }
       EXPECT_GT(inside, size / 4);  // (1/1.4)^2 inside, 2/3 of those pass the gate
       EXPECT_LT(boundary, 20);
-      // Without position outputs no gate applies.
-      locate(chunk.view(size), w, gate, slot.data(), nullptr, nullptr);
-      EXPECT_EQ(slot[7], -1);
-      EXPECT_EQ(slot[9], -1);
+      // The count is of gated points inside the window (boundary points either way).
+      EXPECT_GE(gated, gated_want);
+      EXPECT_LE(gated, gated_want + gated_boundary);
+      EXPECT_GT(gated_want, size / 8);
+      // Without position outputs (piecewise-constant rules) the same slots and gate.
+      std::vector<int> cell_slot(PointChunk::kStride);
+      EXPECT_EQ(locate(chunk.view(size), w, gate, cell_slot.data(), nullptr, nullptr), gated);
+      for (int i = 0; i < size; ++i) ASSERT_EQ(cell_slot[i], slot[i]) << "point " << i;
+      // No gate (+infinity): the gated points come back, none counted.
+      const float open = std::numeric_limits<float>::infinity();
+      EXPECT_EQ(locate(chunk.view(size), w, open, cell_slot.data(), nullptr, nullptr), 0);
+      int back = 0;
+      for (int i = 0; i < size; ++i) {
+        if (slot[i] >= 0) {
+          ASSERT_EQ(cell_slot[i], slot[i]);
+        }
+        back += slot[i] < 0 && cell_slot[i] >= 0;
+      }
+      EXPECT_EQ(back, gated);
+      EXPECT_EQ(cell_slot[7], -1);
+      EXPECT_EQ(cell_slot[9], -1);
     }
+}
+
+TEST(LocatePoints, GateCountIgnoresLanesPastTheChunk) {
+  // A chunk of 13 points inside a window; the points after it (the next chunk's, read
+  // by whole vectors) are all wide: only the chunk's own wide points count.
+  ChunkArrays chunk;
+  for (int i = 0; i < PointChunk::kStride; ++i) {
+    chunk.x[i] = chunk.y[i] = 0.5f;
+    chunk.lateral_var[i] = i < 13 ? float(i % 2) : 1.0f;  // 6 wide among the 13
+  }
+  WindowIndex w;
+  w.inv_resolution = 1.0;
+  w.size = 4;
+  std::vector<int> slot(PointChunk::kStride);
+  std::vector<float> cx(PointChunk::kStride), cy(PointChunk::kStride);
+  for (const auto locate : {&locate_points, &locate_points_portable}) {
+    EXPECT_EQ(locate(chunk.view(13), w, 0.5f, slot.data(), cx.data(), cy.data()), 6);
+    EXPECT_EQ(locate(chunk.view(13), w, 0.5f, slot.data(), nullptr, nullptr), 6);
+  }
 }
 
 TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
@@ -104,22 +152,26 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
     cy[i] = float(u(rng));
     c.z[i] = float(35.0 + 0.1 * cx[i] + nz(rng));  // far from the reference, mm spread
     c.ccm_weight[i] = float(wd(rng));
+    c.var_z[i] = float(1e-6 * wd(rng));
   }
   for (int begin : {0, 1, 3, 5}) {
     for (int len = 1; len <= 23; ++len) {
       const int end = begin + len;
       // A NaN just past the run must not leak into the masked vector lanes.
-      const float saved = c.z[end];
+      const float saved = c.z[end], saved_var = c.var_z[end];
       c.z[end] = std::numeric_limits<float>::quiet_NaN();
+      c.var_z[end] = std::numeric_limits<float>::quiet_NaN();
       const double z_ref = 34.99;
       FrameSums got, want;
       got.w = 1.0;  // runs add to what is there
       want.w = 1.0;
-      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end},
+      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end,
+                              c.var_z.data()},
                     z_ref, got);
       for (int k = begin; k < end; ++k)
-        want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref);
+        want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref, c.var_z[k]);
       c.z[end] = saved;
+      c.var_z[end] = saved_var;
       ASSERT_EQ(got.count, want.count);
       const double tol = 1e-6;
       EXPECT_NEAR(got.w, want.w, tol * want.w);
@@ -127,6 +179,7 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       EXPECT_NEAR(got.y, want.y, tol * want.w);
       EXPECT_NEAR(got.xx, want.xx, tol * want.w);
       EXPECT_NEAR(got.xy, want.xy, tol * want.w);
+      EXPECT_NEAR(got.v, want.v, 1e-6 * want.v) << begin << "+" << len;  // sum w Sigma_zz
       // z sums relative to z_ref: compare the centred spread, which is what cancels.
       const Moments mg = got.to_moments(1.0, z_ref), mw = want.to_moments(1.0, z_ref);
       EXPECT_NEAR(mg.mz, mw.mz, 1e-7) << begin << "+" << len;

@@ -89,7 +89,8 @@ double pooled_vs_all_layers(RuleKind rule, const RulesConfig& rules, std::vector
                           rel(b.szz, a.szz, 1e-12 * a.w)});
         if (rule == RuleKind::ccm)
           worst = std::max({worst, rel(b.sxx, a.sxx, 0), rel(b.syy, a.syy, 0), rel(b.sxz, a.sxz, 1e-9 * a.w),
-                            std::abs(b.mx - a.mx) / g.resolution_m()});
+                            std::abs(b.mx - a.mx) / g.resolution_m(),
+                            rel(b.noise_var, a.noise_var, 0)});
       }
   }
   EXPECT_GT(compared, 50);
@@ -111,6 +112,7 @@ int expect_identical_cells(const Layer& a_layer, const Layer& b_layer, const std
       EXPECT_EQ(a.szz, b.szz) << what;
       EXPECT_EQ(a.mx, b.mx) << what;
       EXPECT_EQ(a.sxz, b.sxz) << what;
+      EXPECT_EQ(a.noise_var, b.noise_var) << what;
       if (::testing::Test::HasFailure()) return observed;  // one report, not one per cell
     }
   return observed;

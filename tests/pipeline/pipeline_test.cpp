@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
@@ -118,7 +119,56 @@ TEST(Pipeline, SampleSequenceRunWritesAllOutputsAndShowsAllThreeClasses) {
   EXPECT_GT(seen[0], 0);
   EXPECT_GT(seen[1], 0);
   EXPECT_GT(seen[2], 0);
-  EXPECT_TRUE(std::filesystem::is_regular_file(dir / "out/summary.json"));
+  // summary.json: per frame the points dropped below ground and each layer's gate
+  // counts; per layer the run totals, equal to the sum over frames.
+  const YAML::Node summary = YAML::LoadFile((dir / "out/summary.json").string());
+  const YAML::Node frames = summary["frames"];
+  ASSERT_EQ(frames.size(), seq.frames.size());
+  std::size_t below = 0, gated_std = 0, gated_consistency = 0;
+  for (const YAML::Node& f : frames) {
+    below += f["points_below_ground"].as<std::size_t>();
+    ASSERT_EQ(f["gated"].size(), config.map.layers.size());
+    EXPECT_EQ(f["gated"][0]["layer"].as<std::string>(), "L0");
+    gated_std += f["gated"][0]["std"].as<std::size_t>();
+    gated_consistency += f["gated"][0]["consistency"].as<std::size_t>();
+  }
+  EXPECT_EQ(summary["points_below_ground_total"].as<std::size_t>(), below);
+  EXPECT_EQ(summary["layers"][0]["gated_std_total"].as<std::size_t>(), gated_std);
+  EXPECT_EQ(summary["layers"][0]["gated_consistency_total"].as<std::size_t>(), gated_consistency);
+}
+
+// SPEC 3.3 through the whole pipeline: with a below-ground limit of 1 mm the ground's
+// points below the wheel plane are counted and not mapped; the frame's points with the
+// check off are exactly those kept plus those counted. And the SPEC 4 gates' counts reach
+// the report: a consistency gate of 0.5 sigma rejects some of the second frame's points.
+TEST(Pipeline, BelowGroundPointsAndGatedPointsAreCounted) {
+  testing::TempDir dir;
+  sim::SimulationOptions sim;
+  sim.scenario = "flat";
+  sim.frames = 2;
+  sim.scale = kScale;
+  sim::simulate_sequence(sim, dir / "seq");
+  const Sequence seq = load_sequence(dir / "seq");
+  Config strict = test_config();
+  strict.stereo.max_below_ground_m = 0.001;
+  strict.rules.kalman.gate_sigma = 0.5;
+  Config open = test_config();
+  open.stereo.max_below_ground_m = 0.0;
+  Pipeline with_check(strict, seq.calibration), without(open, seq.calibration);
+  for (const auto& f : seq.frames) {
+    const cv::Mat left = read_image(f.left_path), right = read_image(f.right_path);
+    const FrameReport a = with_check.process(left, right, f.pose.T_W_B);
+    const FrameReport b = without.process(left, right, f.pose.T_W_B);
+    EXPECT_GT(a.points_below_ground, 100u);
+    EXPECT_EQ(b.points_below_ground, 0u);
+    EXPECT_EQ(a.points + a.points_below_ground, b.points);
+    EXPECT_EQ(b.gated.consistency_gate, 0u);
+    ASSERT_EQ(with_check.layer_gates().size(), 1u);
+    EXPECT_EQ(with_check.layer_gates()[0].consistency_gate, a.gated.consistency_gate);
+    if (&f != &seq.frames.front()) {
+      EXPECT_GT(a.gated.consistency_gate, 100u);
+    }
+  }
 }
 
 TEST(HazardParams, DerivedThresholdsAndHeightsComeFromOnePlace) {

@@ -112,5 +112,51 @@ TEST(PointCloudBuilder, PointAndRayCovarianceGoThroughR1AndTheBodyPose) {
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], 1e-6 * cov.norm()) << i;
 }
 
+// SPEC 3.3: a point more than max_below_ground below the body's wheel plane (z_B = 0) is
+// dropped and counted. A camera 0.3 m up looking forward and down, the body tilted and
+// displaced in W: each pixel's z_B computed here from p_W through T_W_B^-1.
+TEST(PointCloudBuilder, DropsAndCountsPointsFarBelowTheWheelPlane) {
+  StereoConfig stereo;
+  stereo.z_min_m = 0.01;
+  stereo.z_max_m = 100;
+  stereo.max_below_ground_m = 0.5;
+  SensorConfig sensor;
+  Pose3d T_B_C = Pose3d::Identity();
+  T_B_C.linear() = rotation_from_rpy(-M_PI / 2 - 0.4, 0.0, -M_PI / 2);  // forward, 23 deg down
+  T_B_C.translation() = Eigen::Vector3d(0.1, 0.0, 0.3);
+  Pose3d T_W_B = Pose3d::Identity();
+  T_W_B.linear() = rotation_from_rpy(0.1, -0.15, 0.7);
+  T_W_B.translation() = Eigen::Vector3d(2, 1, -0.4);
+  const Eigen::Matrix3d R1 =
+      Eigen::AngleAxisd(0.03, Eigen::Vector3d(1, 0.5, 0.2).normalized()).toRotationMatrix();
+  // Disparities from 1 to 16 px by column: Z from 10 m to 0.6 m, so that rays below the
+  // horizon end far below the ground at small disparities.
+  cv::Mat d(48, 64, CV_16S);
+  for (int v = 0; v < d.rows; ++v)
+    for (int u = 0; u < d.cols; ++u) d.at<int16_t>(v, u) = static_cast<int16_t>(16 + 4 * u);
+  std::size_t expected_dropped = 0, expected_kept = 0;
+  for (int v = 0; v < d.rows; ++v)
+    for (int u = 0; u < d.cols; ++u) {
+      const Eigen::Vector3d p_W =
+          T_W_B * (T_B_C * (R1.transpose() * triangulate(kGeometry, u, v, d.at<int16_t>(v, u) / 16.0)));
+      const double z_B = (T_W_B.inverse() * p_W).z();
+      ASSERT_GT(std::abs(z_B + 0.5), 1e-9);  // no pixel on the threshold
+      (z_B < -0.5 ? expected_dropped : expected_kept)++;
+    }
+  ASSERT_GT(expected_dropped, 200u);
+  ASSERT_GT(expected_kept, 200u);
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+  PointCloud cloud;
+  EXPECT_EQ(builder.build(d, 0, T_W_B, cloud), expected_dropped);
+  ASSERT_EQ(cloud.size(), expected_kept);
+  const Pose3d T_B_W = T_W_B.inverse();
+  for (const Measurement& m : cloud) EXPECT_GE((T_B_W * m.p_W.cast<double>()).z(), -0.5 - 1e-5);
+  // <= 0 disables the check: every pixel gives a point, none counted.
+  stereo.max_below_ground_m = 0.0;
+  const PointCloudBuilder open(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+  EXPECT_EQ(open.build(d, 0, T_W_B, cloud), 0u);
+  EXPECT_EQ(cloud.size(), expected_kept + expected_dropped);
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -17,16 +17,18 @@ struct WindowIndex {
   int wrap_x = 0, wrap_y = 0;  ///< storage column / row of the window's first cell
 };
 
-/// Fills slot[i] for the chunk's points: -1 when outside the window. With cx and cy (plane
-/// rules) also the cell-centred position in cell units, and -1 for points whose
-/// lateral_var exceeds gate_var. The output arrays hold at least chunk.size entries.
-/// Where the CPU has AVX2 and N < 2^15, with intrinsics (integer index lanes); the
-/// output arrays then hold chunk.size rounded up to 8 entries.
-void locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var, int* slot,
-                   float* cx, float* cy);
+/// Fills slot[i] for the chunk's points: -1 when outside the window or when the point's
+/// lateral_var exceeds gate_var (SPEC 4 max_std_ratio; +infinity: no gate, and
+/// lateral_var is not read). With cx and cy (plane rules) also the cell-centred position
+/// in cell units. Returns how many points inside the window the gate dropped. The output
+/// arrays hold at least chunk.size entries. Where the CPU has AVX2 and N < 2^15, with
+/// intrinsics (integer index lanes); the output arrays then hold chunk.size rounded up to
+/// 8 entries.
+int locate_points(const PointChunk& chunk, const WindowIndex& window, float gate_var, int* slot,
+                  float* cx, float* cy);
 
 /// The version locate_points runs without AVX2 or for N >= 2^15, for tests.
-void locate_points_portable(const PointChunk& chunk, const WindowIndex& window, float gate_var,
-                            int* slot, float* cx, float* cy);
+int locate_points_portable(const PointChunk& chunk, const WindowIndex& window, float gate_var,
+                           int* slot, float* cx, float* cy);
 
 }  // namespace hazmap

@@ -52,6 +52,16 @@ struct PoolGrid {
   std::vector<Moments> cells;
 };
 
+/// Points a layer's SPEC 4 gates dropped in its last insertion (begin_insert resets).
+struct GateCounts {
+  /// Inside the window, lateral std above max_std_ratio * r / sqrt(12). In
+  /// finest_then_pool mode a coarser layer also counts such points in its covered cells
+  /// (the finer layer, whose gate is tighter, counts them too).
+  std::size_t std_gate = 0;
+  /// |z - mu| > gate_sigma sqrt(var + sigma_m^2) against a known cell (Kalman, OMG).
+  std::size_t consistency_gate = 0;
+};
+
 class Layer {
  public:
   virtual ~Layer() = default;
@@ -68,6 +78,8 @@ class Layer {
   virtual void begin_insert() = 0;
   virtual std::size_t insert_chunk(const PointChunk& chunk) = 0;
   virtual void end_insert() = 0;
+  /// What the gates dropped since the last begin_insert.
+  virtual GateCounts gate_counts() const = 0;
 
   /// The whole frame at once (tests; LayerStack::insert shares chunks between layers).
   std::size_t insert(const MapPoints& points) {

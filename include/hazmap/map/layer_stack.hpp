@@ -14,7 +14,15 @@
 namespace hazmap {
 
 /// Builds layer `index` of `map` with its rule (one switch over the YAML rule name).
+/// `hazard` gives CCM layers the tilt their unevaluable cells may hide (SPEC 6.4).
+std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules,
+                                  const HazardConfig& hazard, std::size_t index);
+/// The same with the default hazard config (tests and benchmarks).
 std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules, std::size_t index);
+
+/// SPEC 4 lateral gate of a layer: max_std_ratio (the layer's, else rules.ccm's) times the
+/// uniform-cell std r / sqrt(12) [m]; 0 when off.
+double gate_std_m(const LayerConfig& layer, const RulesConfig& rules);
 
 /// CCM weighting named in the config.
 CcmWeighting ccm_weighting(const CcmConfig& ccm);
@@ -22,6 +30,10 @@ CcmWeighting ccm_weighting(const CcmConfig& ccm);
 class LayerStack {
  public:
   /// `pose_uncertainty`: track pose noise and inflate exported variances (SPEC 7).
+  /// `hazard`: hazard.max_slope_deg enters CCM layers' published variance (SPEC 6.4).
+  LayerStack(const MapConfig& map, const RulesConfig& rules, const HazardConfig& hazard,
+             bool pose_uncertainty = false);
+  /// The same with the default hazard config (tests and benchmarks).
   LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose_uncertainty = false);
 
   /// Rolls every layer to the robot position and applies per-frame rule updates.
@@ -38,6 +50,9 @@ class LayerStack {
 
   /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
   void export_layer(std::size_t i, LayerGrids& out) const;
+
+  /// What layer i's SPEC 4 gates dropped in the last insert.
+  GateCounts gate_counts(std::size_t i) const { return layers_[i]->gate_counts(); }
 
   std::size_t size() const { return layers_.size(); }
   const Layer& layer(std::size_t i) const { return *layers_[i]; }

@@ -2,7 +2,8 @@
 // A frame's points as the map reads them: one float array per field (structure of
 // arrays), with the per-point weights derived once. Built from the Measurement records in
 // one pass (the pipeline's points stage); the layer stack then reads it in chunks, so
-// insertion touches 24 bytes per point instead of a 36-byte record per point and layer.
+// insertion touches at most 28 bytes per point instead of a 36-byte record per point and
+// layer (each rule reads only the arrays it needs).
 
 #include <vector>
 
@@ -43,7 +44,7 @@ class MapPoints {
   }
 
  private:
-  std::vector<float> x_, y_, z_, inv_var_z_, ccm_weight_, lateral_var_;  ///< size_ + kPad
+  std::vector<float> x_, y_, z_, inv_var_z_, ccm_weight_, lateral_var_, var_z_;  ///< size_ + kPad
   int size_ = 0;
 };
 

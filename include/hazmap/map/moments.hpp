@@ -7,7 +7,8 @@
 //   S_ab = sum ( S_ab,i + W_i (mu_i,a - mu_a)(mu_i,b - mu_b) )
 //
 // S is the weighted co-moment (sum of w (d - mu)(d - mu)^T), so Sigma = S / W
-// (population normalisation, SPEC 12).
+// (population normalisation, SPEC 12). Beside them, the weighted mean of the points'
+// measurement height variances (CCM's noise variance), merged like the other means.
 
 #include <cstdint>
 
@@ -17,6 +18,8 @@ struct Moments {
   double w = 0.0;
   double mx = 0.0, my = 0.0, mz = 0.0;
   double sxx = 0.0, syy = 0.0, szz = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
+  /// Weighted mean of the points' Sigma_zz [m^2] (same weights as the means).
+  double noise_var = 0.0;
   std::uint32_t count = 0;  ///< number of points behind the moments
 
   bool empty() const { return !(w > 0.0); }
@@ -49,11 +52,13 @@ struct Moments {
     mx += f * dx;
     my += f * dy;
     mz += f * dz;
+    noise_var += f * (o.noise_var - noise_var);
     w = W;
     count += o.count;
   }
 
-  /// Scales the weight and co-moments by 1/psi (means unchanged): the CCM weight cap.
+  /// Scales the weight and co-moments by 1/psi (means, noise_var included, unchanged): the
+  /// CCM weight cap.
   void scale_weight(double inv_psi) {
     w *= inv_psi;
     sxx *= inv_psi;
@@ -92,10 +97,12 @@ struct WeightedSums {
 /// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
 /// in double; to_moments() converts to centred moments. No division per point.
 struct FrameSums : WeightedSums<double> {
+  double v = 0;  ///< sum w Sigma_zz (noise variance)
   std::uint32_t count = 0;
 
-  void add(double wt, double px, double py, double pz) {
+  void add(double wt, double px, double py, double pz, double var_z = 0.0) {
     WeightedSums<double>::add(wt, px, py, pz);
+    v += wt * var_z;
     ++count;
   }
 
@@ -116,6 +123,7 @@ struct FrameSums : WeightedSums<double> {
     m.sxy = (xy - w * ux * uy) * r2;
     m.sxz = (xz - w * ux * uz) * cell_m;
     m.syz = (yz - w * uy * uz) * cell_m;
+    m.noise_var = v / w;
     // Rounding can leave tiny negative variances for single points.
     if (m.sxx < 0) m.sxx = 0;
     if (m.syy < 0) m.syy = 0;

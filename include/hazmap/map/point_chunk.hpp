@@ -17,7 +17,10 @@ struct PointChunk {
   const float* z = nullptr;
   const float* inv_var_z = nullptr;    ///< Kalman and OMG weight 1 / Sigma_zz
   const float* ccm_weight = nullptr;   ///< CCM weight (SPEC 4)
-  const float* lateral_var = nullptr;  ///< max(Sigma_xx, Sigma_yy): the CCM gate
+  const float* lateral_var = nullptr;  ///< max(Sigma_xx, Sigma_yy): the SPEC 4 gate
+  /// Sigma_zz [m^2] itself (not 1 / inv_var_z: exact, and no division per point), for the
+  /// baseline's variance and the CCM noise variance.
+  const float* var_z = nullptr;
   int size = 0;                        ///< <= kCapacity; every array readable to size + kPad
 };
 

@@ -17,6 +17,13 @@
 // the cell's frame accumulator and merge each touched cell once per frame. Ageing (time
 // inflation, decay) is lazy, see begin_frame. All buffers are allocated in the
 // constructor.
+//
+// SPEC 4 gates: pass 1 drops points whose lateral variance exceeds the layer's gate (any
+// rule; without a gate pass 1 does not read it). Rules with Rule::kHeightGate (Kalman,
+// OMG) with gate_sigma > 0 then run a simpler pass between pass 1 and 2 that drops
+// (slot -1) points inconsistent with their cell as it stands at the start of the chunk
+// (Kalman merges run by run, so earlier chunks of the frame count) or of the frame (OMG
+// merges once per frame); see gate_heights. With gate_sigma = 0 that pass is skipped.
 
 #include <algorithm>
 #include <array>
@@ -37,6 +44,7 @@ class RollingLayer final : public Layer {
  public:
   /// `gate_std_m` > 0 drops points whose lateral standard deviation exceeds it (SPEC 4
   /// max_std_ratio); `pooled` allocates the prior and coverage state of finest_then_pool.
+  /// The consistency gate's gate_sigma comes from the rule's config (Rule::kHeightGate).
   RollingLayer(int size, double resolution_m, const typename Rule::Config& config,
                double gate_std_m = 0.0, bool pooled = false)
       : grid_(size, resolution_m),
@@ -71,7 +79,12 @@ class RollingLayer final : public Layer {
       for (auto& cell : cells_) Rule::age(config_, cell, 1);
   }
 
-  void begin_insert() override { touched_count_ = 0; }
+  void begin_insert() override {
+    touched_count_ = 0;
+    gates_ = GateCounts{};
+  }
+
+  GateCounts gate_counts() const override { return gates_; }
 
   std::size_t insert_chunk(const PointChunk& chunk) override {
     const int n = grid_.size();
@@ -86,10 +99,14 @@ class RollingLayer final : public Layer {
     window.size = n;
     window.wrap_x = wrap_index(grid_.origin_x(), n);
     window.wrap_y = wrap_index(grid_.origin_y(), n);
+    int gated;
     if constexpr (Rule::kHasPlane)
-      locate_points(chunk, window, gate_var_, slot, cx, cy);
+      gated = locate_points(chunk, window, gate_var_, slot, cx, cy);
     else
-      locate_points(chunk, window, gate_var_, slot, nullptr, nullptr);
+      gated = locate_points(chunk, window, gate_var_, slot, nullptr, nullptr);
+    gates_.std_gate += static_cast<std::size_t>(gated);
+    if constexpr (Rule::kHeightGate)
+      if (config_.gate_sigma > 0) gate_heights(chunk);
     if constexpr (Rule::kMergePerRun)
       return merge_runs(chunk);
     else
@@ -188,15 +205,25 @@ class RollingLayer final : public Layer {
         const typename Rule::Cell c = current(grid_.slot(ix, iy));
         if (!Rule::known(c)) continue;
         if constexpr (Rule::kHasPlane) {
-          double a, b;
-          Rule::slopes(config_, c, &a, &b);
-          out.height.at(row, col) = static_cast<float>(Rule::height_at(config_, c, 0.0, 0.0));
-          out.slope_x.at(row, col) = static_cast<float>(a);
-          out.slope_y.at(row, col) = static_cast<float>(b);
+          // SPEC 6.4: an evaluable cell publishes its plane at the centre; any other its
+          // mean height, no slopes, and a variance that covers the unmeasured tilt.
+          const bool evaluable = Rule::evaluable(config_, c, r);
+          if (evaluable) {
+            double a, b;
+            Rule::slopes(config_, c, &a, &b);
+            out.height.at(row, col) = static_cast<float>(Rule::height_at(config_, c, 0.0, 0.0));
+            out.slope_x.at(row, col) = static_cast<float>(a);
+            out.slope_y.at(row, col) = static_cast<float>(b);
+          } else {
+            out.height.at(row, col) = static_cast<float>(Rule::mean_z(c));
+          }
+          out.variance.at(row, col) =
+              static_cast<float>(Rule::published_variance(config_, c, r, evaluable));
           out.roughness.at(row, col) = static_cast<float>(Rule::roughness(config_, c));
           out.coverage.at(row, col) = static_cast<float>(Rule::coverage(c, r));
-          out.evaluable.at(row, col) = Rule::evaluable(config_, c, r) ? 1.0f : 0.0f;
+          out.evaluable.at(row, col) = evaluable ? 1.0f : 0.0f;
           out.count.at(row, col) = static_cast<float>(c.count);
+          out.noise_variance.at(row, col) = c.noise_var_m2;
           out.lateral_xx.at(row, col) = c.sxx / c.w;
           out.lateral_yy.at(row, col) = c.syy / c.w;
           out.lateral_xy.at(row, col) = c.sxy / c.w;
@@ -204,8 +231,8 @@ class RollingLayer final : public Layer {
           out.lateral_yz.at(row, col) = c.syz / c.w;
         } else {
           out.height.at(row, col) = Rule::height(c);
+          out.variance.at(row, col) = Rule::variance(c);
         }
-        out.variance.at(row, col) = Rule::variance(c);
       }
     }
     if (pose) inflate_variance(out, *pose, robot_x_m, robot_y_m);
@@ -326,11 +353,13 @@ class RollingLayer final : public Layer {
         const float v = out.variance.at(row, col);
         if (std::isnan(out.height.at(row, col))) continue;
         const CellIndex ix = grid_.origin_x() + col;
-        double gx, gy;
+        double gx = std::nan(""), gy = std::nan("");
         if constexpr (Rule::kHasPlane) {
           gx = out.slope_x.at(row, col);
           gy = out.slope_y.at(row, col);
-        } else {
+        }
+        // Piecewise-constant cells, and CCM cells without slopes (not evaluable).
+        if (std::isnan(gx) || std::isnan(gy)) {
           const double mid = h(row, col);
           gx = diff(h(row, col - 1), mid, h(row, col + 1), r);
           gy = diff(h(row + 1, col), mid, h(row - 1, col), r);  // row 0 = largest y
@@ -341,6 +370,38 @@ class RollingLayer final : public Layer {
         out.variance.at(row, col) = static_cast<float>((std::isnan(v) ? 0.0 : v) + added);
       }
     }
+  }
+
+  /// SPEC 4 consistency gate (Rule::kHeightGate, gate_sigma > 0): drops (slot -1) each
+  /// point with (z - mu)^2 > gate_sigma^2 (var + Sigma_zz) against its cell's (mu, var) as
+  /// it stands now (before this chunk's points), if the cell is known. Unknown cells take
+  /// every point: a cell's first points are its evidence. Points of covered cells
+  /// (pooling) are not this layer's and are not tested. The cell state is read once per
+  /// run of equal slots.
+  void gate_heights(const PointChunk& chunk) {
+    const double g2 = config_.gate_sigma * config_.gate_sigma;
+    int* const slot = slot_buf_.data();
+    const float* const z = chunk.z;
+    const float* const var_z = chunk.var_z;
+    int last = -1;
+    bool known = false;
+    double mu = 0.0, var = 0.0;
+    std::size_t rejected = 0;
+    for (int i = 0; i < chunk.size; ++i) {
+      const int s = slot[i];
+      if (s < 0 || (!covered_.empty() && covered_[s])) continue;
+      if (s != last) {
+        last = s;
+        known = Rule::gate_state(config_, cells_[s], owed_frames(s), &mu, &var);
+      }
+      if (!known) continue;
+      const double d = double(z[i]) - mu;
+      if (d * d > g2 * (var + double(var_z[i]))) {
+        slot[i] = -1;
+        ++rejected;
+      }
+    }
+    gates_.consistency_gate += rejected;
   }
 
   /// Pass 2 for rules that merge each run straight into its cell: the chunk's runs as
@@ -427,7 +488,7 @@ class RollingLayer final : public Layer {
         fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : chunk.z[i];
       }
       Accumulator& a = accumulators_[k];
-      Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end}, a.z_ref);
+      Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end, chunk.var_z}, a.z_ref);
       i = end;
     }
     return used;
@@ -437,6 +498,7 @@ class RollingLayer final : public Layer {
   typename Rule::Config config_;
   double inv_resolution_;
   float gate_var_;
+  GateCounts gates_;  ///< this insertion's gate drops
   std::uint32_t frame_ = 0;
   std::vector<typename Rule::Cell> cells_;
   std::vector<Accumulator> accumulators_;

@@ -14,7 +14,8 @@
 namespace hazmap {
 
 /// Points [begin, end) of a chunk: weights, cell-centred x and y in cell units, heights
-/// [m]. Every array must be readable up to end + 3 (PointChunk::kPad).
+/// [m], and height variances Sigma_zz [m^2] (plane runs only). Every array must be
+/// readable up to end + 3 (PointChunk::kPad).
 struct RunPoints {
   const float* w;
   const float* x;
@@ -22,9 +23,11 @@ struct RunPoints {
   const float* z;
   int begin;
   int end;
+  const float* var_z = nullptr;
 };
 
-/// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`.
+/// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`,
+/// and sum w var_z to sums.v.
 void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums);
 
 /// Weighted height sums of a run (w, x and y unused): sum w, sum w z, sum w z^2 with z

@@ -30,6 +30,11 @@ struct StageTimes {
 struct FrameReport {
   size_t points = 0;       ///< valid points of the frame
   size_t updates = 0;      ///< point-into-layer updates
+  /// Points dropped as below ground (SPEC 3.3), not in `points`.
+  size_t points_below_ground = 0;
+  /// Points the SPEC 4 gates dropped, summed over layers (a point counts once per layer
+  /// that dropped it); per layer in Pipeline::layer_gates().
+  GateCounts gated;
   StageTimes ms;
 };
 
@@ -66,6 +71,9 @@ class Pipeline {
   const LayerStack& map() const { return map_; }
   /// Each layer's share of the last frame's insertion, ms (LayerStack::insert).
   const std::vector<double>& layer_map_ms() const { return layer_map_ms_; }
+  /// What each layer's SPEC 4 gates dropped in the last frame (a member, not part of
+  /// FrameReport, so that a frame allocates nothing for it).
+  const std::vector<GateCounts>& layer_gates() const { return layer_gates_; }
   const PointCloud& cloud() const { return front_.cloud(); }
   const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
   const Rectifier& rectifier() const { return front_.rectifier(); }
@@ -83,6 +91,7 @@ class Pipeline {
   std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
   HazardFusion fusion_;
   std::vector<FusionInput> fusion_inputs_;
+  std::vector<GateCounts> layer_gates_;
 
   std::vector<LayerView> views_;
   PlannerMaps planner_;

@@ -1,6 +1,7 @@
 #pragma once
 // Baseline rule (SPEC 6.1): the cell holds the height of the last point that fell in
-// it. No fusion, no variance; the reference the other rules are measured against.
+// it, and that point's sensor height variance Sigma_zz (what it knows about the height).
+// No fusion; the reference the other rules are measured against.
 
 #include <cmath>
 #include <cstdint>
@@ -21,14 +22,18 @@ struct BananasRule {
   static constexpr bool kMergesChunks = false;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
+  /// No SPEC 4 consistency gate.
+  static constexpr bool kHeightGate = false;
 
   struct Config {};
   struct Cell {
     float height_m = std::numeric_limits<float>::quiet_NaN();
+    float variance_m2 = std::numeric_limits<float>::quiet_NaN();  ///< last point's Sigma_zz
   };
   /// The frame's last point (scan-line order), relative to the reference.
   struct Sums {
     double last_z = 0;
+    float last_var = 0;  ///< its Sigma_zz [m^2]
     std::uint32_t count = 0;
   };
 
@@ -40,12 +45,17 @@ struct BananasRule {
   /// the last point counts.
   static Sums run_sums(const PointChunk& chunk, const ChunkRuns& runs, int r) {
     Sums s;
-    s.last_z = double(chunk.z[runs.end(r) - 1]) - double(chunk.z[runs.begin(r)]);
+    const int last = runs.end(r) - 1;
+    s.last_z = double(chunk.z[last]) - double(chunk.z[runs.begin(r)]);
+    s.last_var = chunk.var_z[last];
     s.count = static_cast<std::uint32_t>(runs.end(r) - runs.begin(r));
     return s;
   }
   static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
-    if (s.count > 0) c.height_m = static_cast<float>(z_ref_m + s.last_z);
+    if (s.count > 0) {
+      c.height_m = static_cast<float>(z_ref_m + s.last_z);
+      c.variance_m2 = s.last_var;
+    }
   }
   /// Nothing ages, so this is merge_frame.
   static void merge_run(const Config& cfg, Cell& c, const Sums& s, double z_ref_m, std::uint32_t,
@@ -54,26 +64,36 @@ struct BananasRule {
   }
   /// No precision to cap (merge_run ignores its last argument).
   static double max_precision(const Config&) { return 0.0; }
-  static void update(const Config&, Cell& c, double z_m, double /*vm_m2*/) {
+  static void update(const Config&, Cell& c, double z_m, double vm_m2) {
     c.height_m = static_cast<float>(z_m);
+    c.variance_m2 = static_cast<float>(vm_m2);
   }
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}
-  /// Pooling view: an unweighted height sample.
+  /// Pooling view: an unweighted height sample with its variance (szz = w var, as OMG),
+  /// so that a pooled parent's variance is the children's mean variance plus the spread
+  /// of their heights.
   static Moments to_moments(const Cell& c) {
     Moments m;
     if (!known(c)) return m;
     m.w = 1.0;
     m.mz = c.height_m;
+    m.szz = c.variance_m2;
+    m.noise_var = c.variance_m2;
     m.count = 1;
     return m;
   }
   static void from_moments(const Config&, Cell& c, const Moments& m) {
-    c.height_m = m.empty() ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(m.mz);
+    if (m.empty()) {
+      c = Cell{};
+      return;
+    }
+    c.height_m = static_cast<float>(m.mz);
+    c.variance_m2 = static_cast<float>(m.szz / m.w);
   }
   static float height(const Cell& c) { return c.height_m; }
-  /// The baseline has no variance model.
-  static float variance(const Cell&) { return std::numeric_limits<float>::quiet_NaN(); }
+  /// The sensor height variance of the last point (NaN on an unknown cell).
+  static float variance(const Cell& c) { return c.variance_m2; }
 };
 
 }  // namespace hazmap

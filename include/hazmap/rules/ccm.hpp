@@ -30,6 +30,8 @@ struct CcmRule {
   static constexpr bool kMergePerRun = false;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
+  /// No SPEC 4 consistency gate.
+  static constexpr bool kHeightGate = false;
   static constexpr bool kUsesHeightSums = false;
 
   struct Config {
@@ -37,6 +39,9 @@ struct CcmRule {
     int min_points = 10;        ///< evaluable needs at least this many points
     double min_coverage = 0.8;  ///< evaluable needs kappa >= this
     bool full_plane = true;     ///< use Sxy (SPEC 6.4); false: the thesis' 9-float forms
+    /// hazard.max_slope_deg in radians: the tilt a cell that is not evaluable may hide,
+    /// in its published variance (SPEC 6.4).
+    double max_slope_rad = 20.0 * M_PI / 180.0;
   };
 
   struct Cell {
@@ -44,6 +49,7 @@ struct CcmRule {
     float mx_m = 0.0f, my_m = 0.0f;  ///< mean x, y relative to the cell centre
     SplitHeight mz_m;                ///< mean height
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;  ///< co-moments
+    float noise_var_m2 = 0.0f;  ///< weighted mean of the points' Sigma_zz
     std::uint32_t count = 0;
   };
 
@@ -54,7 +60,7 @@ struct CcmRule {
   static float reference_z(const Cell& c) { return c.mz_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.ccm_weight; }
   /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
-  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
+  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {  // run.var_z required
     add_plane_run(run, z_ref_m, s);
   }
   static double mean_z(const Cell& c) { return c.mz_m.value(); }
@@ -68,6 +74,7 @@ struct CcmRule {
     m.mz = mean_z(c);
     m.sxx = c.sxx, m.syy = c.syy, m.szz = c.szz;
     m.sxy = c.sxy, m.sxz = c.sxz, m.syz = c.syz;
+    m.noise_var = c.noise_var_m2;
     m.count = c.count;
     return m;
   }
@@ -86,6 +93,7 @@ struct CcmRule {
     c.sxx = static_cast<float>(m.sxx), c.syy = static_cast<float>(m.syy);
     c.szz = static_cast<float>(m.szz), c.sxy = static_cast<float>(m.sxy);
     c.sxz = static_cast<float>(m.sxz), c.syz = static_cast<float>(m.syz);
+    c.noise_var_m2 = static_cast<float>(m.noise_var);
     c.count = m.count;
   }
 
@@ -150,10 +158,22 @@ struct CcmRule {
            coverage(c, cell_m) >= cfg.min_coverage;
   }
 
-  /// Height variance reported for the cell: the plane-normal spread over W plus the
-  /// roughness, i.e. szz / W (the cell's height spread).
+  /// Height variance of the cell's points, szz / W (their height spread: plane tilt,
+  /// roughness and noise).
   static float variance(const Cell& c) {
     return known(c) ? c.szz / c.w : std::numeric_limits<float>::quiet_NaN();
+  }
+
+  /// Published height variance (SPEC 6.4): szz / W on an evaluable cell; on one that is
+  /// not, whose published height is mu_z, plus (r^2/12) tan^2(max_slope): the variance
+  /// over the cell of a plane tilted by max_slope, which nobody measured.
+  static double published_variance(const Config& cfg, const Cell& c, double cell_m,
+                                    bool evaluable) {
+    if (!known(c)) return std::numeric_limits<double>::quiet_NaN();
+    const double v = double(c.szz) / double(c.w);
+    if (evaluable) return v;
+    const double t = std::tan(cfg.max_slope_rad);
+    return v + cell_m * cell_m / 12.0 * t * t;
   }
 };
 

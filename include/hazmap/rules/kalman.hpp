@@ -40,6 +40,8 @@ struct KalmanRule {
   static constexpr bool kMergesChunks = true;
   /// The cell holds its last-merge frame: a merge then reads and writes one 16-byte cell.
   static constexpr bool kStampInCell = true;
+  /// Has the SPEC 4 consistency gate (gate_state).
+  static constexpr bool kHeightGate = true;
 
   struct Config {
     double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
@@ -65,6 +67,16 @@ struct KalmanRule {
 
   static bool known(const Cell& c) { return c.precision > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
+
+  /// SPEC 4 consistency gate: the cell's height and variance (with the `owed` frames of
+  /// inflation) a point is tested against; false if the cell is unknown (no gate).
+  static bool gate_state(const Config& cfg, Cell c, std::uint32_t owed, double* mu, double* var) {
+    if (!known(c)) return false;
+    age(cfg, c, owed);
+    *mu = mean(c);
+    *var = 1.0 / double(c.precision);
+    return true;
+  }
   static double mean(const Cell& c) { return c.mean_m.value(); }
   static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }

@@ -28,10 +28,13 @@ struct OmgRule {
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
   static constexpr bool kUsesHeightSums = false;
+  /// Has the SPEC 4 consistency gate (gate_state).
+  static constexpr bool kHeightGate = true;
 
   struct Config {
     double max_weight = 1.0e7;  ///< S cap [1/m^2]
     double decay = 1.0;         ///< S *= decay once per frame
+    double gate_sigma = 0.0;    ///< SPEC 4 consistency gate (0 = off)
   };
 
   struct Cell {
@@ -54,6 +57,15 @@ struct OmgRule {
 
   static bool known(const Cell& c) { return !std::isnan(c.variance_m2); }
   static void clear(Cell& c) { c = Cell{}; }
+
+  /// SPEC 4 consistency gate: the cell's height and variance a point is tested against
+  /// (decay changes S only); false if the cell is unknown (no gate).
+  static bool gate_state(const Config&, const Cell& c, std::uint32_t, double* mu, double* var) {
+    if (!known(c)) return false;
+    *mu = mean(c);
+    *var = c.variance_m2;
+    return true;
+  }
   static double mean(const Cell& c) { return c.mean_m.value(); }
   static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }

@@ -5,7 +5,9 @@
 // is rotated against the real camera by up to half the angle between the two cameras.
 // A pixel gives a point when its disparity is valid, it lies on the stride grid, inside
 // the left camera's valid rectified region and the configured `stereo.roi`, its match
-// u - d lies in the right camera's valid region, and z_min <= Z <= z_max.
+// u - d lies in the right camera's valid region, z_min <= Z <= z_max, and it lies no
+// more than stereo.max_below_ground below the body's wheel plane z_B = 0 (SPEC 3.3: such
+// a point is a mismatch; these are counted).
 // Thread safety: build() is const and may run concurrently on different clouds.
 
 #include <vector>
@@ -37,13 +39,14 @@ class PointCloudBuilder {
 
   /// Fills `cloud` (cleared first; its capacity is reused) from a fixed-point disparity
   /// image (CV_16S, x16). Keeps z_min <= Z <= z_max, every stride-th pixel. Fields
-  /// beyond p_W and the covariance are left for the map to fill.
-  void build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
-             PointCloud& cloud) const;
+  /// beyond p_W and the covariance are left for the map to fill. Returns the number of
+  /// points dropped as below ground (SPEC 3.3).
+  std::size_t build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
+                    PointCloud& cloud) const;
 
   /// As above, and `pixels[i]` is the rectified left pixel (u, v) of cloud[i].
-  void build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
-             PointCloud& cloud, std::vector<cv::Point>& pixels) const;
+  std::size_t build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
+                    PointCloud& cloud, std::vector<cv::Point>& pixels) const;
 
   /// Pose of the rectified left camera in the world: T_W_B * T_B_C * R1^T.
   Pose3d rectified_camera_pose(const Pose3d& T_W_B) const;
@@ -52,8 +55,8 @@ class PointCloudBuilder {
   cv::Rect region() const { return roi_; }
 
  private:
-  void build_impl(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
-                  PointCloud& cloud, std::vector<cv::Point>* pixels) const;
+  std::size_t build_impl(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
+                         PointCloud& cloud, std::vector<cv::Point>* pixels) const;
 
   StereoConfig stereo_;
   SensorConfig sensor_;

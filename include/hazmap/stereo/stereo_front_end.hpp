@@ -44,6 +44,8 @@ class StereoFrontEnd {
   const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
   const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
   const PointCloud& cloud() const { return cloud_; }              ///< world frame
+  /// Points of the last pair dropped as below ground (SPEC 3.3), not in cloud().
+  std::size_t points_below_ground() const { return below_ground_; }
   /// Rectified left pixel of each point of cloud().
   const std::vector<cv::Point>& pixels() const { return pixels_; }
   /// Significant bits the last pair was scaled from (8 for 8-bit input).
@@ -62,6 +64,7 @@ class StereoFrontEnd {
   PointCloud cloud_;
   std::vector<cv::Point> pixels_;
   int input_bits_ = 8;
+  std::size_t below_ground_ = 0;
   bool keep_pixels_ = true;
 };
 
