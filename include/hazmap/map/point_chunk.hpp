@@ -17,6 +17,7 @@ struct PointChunk {
   const float* z = nullptr;
   const float* inv_var_z = nullptr;    ///< Kalman and OMG weight 1 / Sigma_zz
   const float* ccm_weight = nullptr;   ///< CCM weight (SPEC 4)
+  bool unit_ccm_weight = false;        ///< every ccm_weight is 1 (constant weighting)
   const float* lateral_var = nullptr;  ///< max(Sigma_xx, Sigma_yy): the SPEC 4 gate
   /// Sigma_zz [m^2] itself (not 1 / inv_var_z: exact, and no division per point), for the
   /// baseline's variance and the CCM noise variance.
