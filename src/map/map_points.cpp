@@ -28,6 +28,7 @@ void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
     var_z_[i] = m.cov_zz;
     lateral_var_[i] = std::max(m.cov_xx, m.cov_yy);
   }
+  unit_ccm_weight_ = weighting == CcmWeighting::constant;
   if (weighting == CcmWeighting::constant)
     std::fill(ccm_weight_.begin(), ccm_weight_.begin() + size_, 1.0f);
   else
@@ -41,6 +42,7 @@ PointChunk MapPoints::chunk(int begin, int count) const {
   c.z = z_.data() + begin;
   c.inv_var_z = inv_var_z_.data() + begin;
   c.ccm_weight = ccm_weight_.data() + begin;
+  c.unit_ccm_weight = unit_ccm_weight_;
   c.lateral_var = lateral_var_.data() + begin;
   c.var_z = var_z_.data() + begin;
   c.size = count;

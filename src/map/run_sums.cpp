@@ -32,13 +32,25 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
   WeightedSums<Vec4> lanes;
   Vec4 wv{};
   const Mask4 lane = {0, 1, 2, 3};
-  for (int k = run.begin; k < run.end; k += 4) {
-    // Lanes past the run's end are zeroed (their values may be anything, even NaN).
-    const Mask4 live = (lane + k) < run.end;
-    const Vec4 pw = keep(load(run.w + k), live);
-    lanes.add(pw, keep(load(run.x + k), live), keep(load(run.y + k), live),
-              keep(load(run.z + k) - z0, live));
-    wv += pw * keep(load(run.var_z + k), live);
+  if (run.w != nullptr) {
+    for (int k = run.begin; k < run.end; k += 4) {
+      // Lanes past the run's end are zeroed (their values may be anything, even NaN).
+      const Mask4 live = (lane + k) < run.end;
+      const Vec4 pw = keep(load(run.w + k), live);
+      lanes.add(pw, keep(load(run.x + k), live), keep(load(run.y + k), live),
+                keep(load(run.z + k) - z0, live));
+      wv += pw * keep(load(run.var_z + k), live);
+    }
+  } else {
+    // Unit weights: no weight array to read (its place in the memory traffic goes to
+    // var_z) and no products by the weight.
+    const Vec4 one = {1.0f, 1.0f, 1.0f, 1.0f};
+    for (int k = run.begin; k < run.end; k += 4) {
+      const Mask4 live = (lane + k) < run.end;
+      lanes.add_unit(keep(one, live), keep(load(run.x + k), live), keep(load(run.y + k), live),
+                     keep(load(run.z + k) - z0, live));
+      wv += keep(load(run.var_z + k), live);
+    }
   }
   const double W = total(lanes.w), X = total(lanes.x), Y = total(lanes.y), Z = total(lanes.z);
   const double d = double(z0) - z_ref_m;

@@ -154,39 +154,42 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
     c.ccm_weight[i] = float(wd(rng));
     c.var_z[i] = float(1e-6 * wd(rng));
   }
-  for (int begin : {0, 1, 3, 5}) {
-    for (int len = 1; len <= 23; ++len) {
-      const int end = begin + len;
-      // A NaN just past the run must not leak into the masked vector lanes.
-      const float saved = c.z[end], saved_var = c.var_z[end];
-      c.z[end] = std::numeric_limits<float>::quiet_NaN();
-      c.var_z[end] = std::numeric_limits<float>::quiet_NaN();
-      const double z_ref = 34.99;
-      FrameSums got, want;
-      got.w = 1.0;  // runs add to what is there
-      want.w = 1.0;
-      add_plane_run(RunPoints{c.ccm_weight.data(), cx.data(), cy.data(), c.z.data(), begin, end,
-                              c.var_z.data()},
-                    z_ref, got);
-      for (int k = begin; k < end; ++k)
-        want.add(c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref, c.var_z[k]);
-      c.z[end] = saved;
-      c.var_z[end] = saved_var;
-      ASSERT_EQ(got.count, want.count);
-      const double tol = 1e-6;
-      EXPECT_NEAR(got.w, want.w, tol * want.w);
-      EXPECT_NEAR(got.x, want.x, tol * want.w);
-      EXPECT_NEAR(got.y, want.y, tol * want.w);
-      EXPECT_NEAR(got.xx, want.xx, tol * want.w);
-      EXPECT_NEAR(got.xy, want.xy, tol * want.w);
-      EXPECT_NEAR(got.v, want.v, 1e-6 * want.v) << begin << "+" << len;  // sum w Sigma_zz
-      // z sums relative to z_ref: compare the centred spread, which is what cancels.
-      const Moments mg = got.to_moments(1.0, z_ref), mw = want.to_moments(1.0, z_ref);
-      EXPECT_NEAR(mg.mz, mw.mz, 1e-7) << begin << "+" << len;
-      if (len > 1) {
-        EXPECT_NEAR(mg.szz, mw.szz, 1e-4 * mw.szz + 1e-12) << begin << "+" << len;
-        EXPECT_NEAR(mg.sxz, mw.sxz, 1e-4 * std::sqrt(mw.sxx * mw.szz) + 1e-12);
-        EXPECT_NEAR(mg.syz, mw.syz, 1e-4 * std::sqrt(mw.syy * mw.szz) + 1e-12);
+  // Weighted, and unit weights (w null: constant weighting reads no weight array).
+  for (const bool unit : {false, true}) {
+    for (int begin : {0, 1, 3, 5}) {
+      for (int len = 1; len <= 23; ++len) {
+        const int end = begin + len;
+        // A NaN just past the run must not leak into the masked vector lanes.
+        const float saved = c.z[end], saved_var = c.var_z[end];
+        c.z[end] = std::numeric_limits<float>::quiet_NaN();
+        c.var_z[end] = std::numeric_limits<float>::quiet_NaN();
+        const double z_ref = 34.99;
+        FrameSums got, want;
+        got.w = 1.0;  // runs add to what is there
+        want.w = 1.0;
+        add_plane_run(RunPoints{unit ? nullptr : c.ccm_weight.data(), cx.data(), cy.data(),
+                                c.z.data(), begin, end, c.var_z.data()},
+                      z_ref, got);
+        for (int k = begin; k < end; ++k)
+          want.add(unit ? 1.0 : c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref, c.var_z[k]);
+        c.z[end] = saved;
+        c.var_z[end] = saved_var;
+        ASSERT_EQ(got.count, want.count);
+        const double tol = 1e-6;
+        EXPECT_NEAR(got.w, want.w, tol * want.w);
+        EXPECT_NEAR(got.x, want.x, tol * want.w);
+        EXPECT_NEAR(got.y, want.y, tol * want.w);
+        EXPECT_NEAR(got.xx, want.xx, tol * want.w);
+        EXPECT_NEAR(got.xy, want.xy, tol * want.w);
+        EXPECT_NEAR(got.v, want.v, 1e-6 * want.v) << begin << "+" << len;  // sum w Sigma_zz
+        // z sums relative to z_ref: compare the centred spread, which is what cancels.
+        const Moments mg = got.to_moments(1.0, z_ref), mw = want.to_moments(1.0, z_ref);
+        EXPECT_NEAR(mg.mz, mw.mz, 1e-7) << begin << "+" << len;
+        if (len > 1) {
+          EXPECT_NEAR(mg.szz, mw.szz, 1e-4 * mw.szz + 1e-12) << begin << "+" << len;
+          EXPECT_NEAR(mg.sxz, mw.sxz, 1e-4 * std::sqrt(mw.sxx * mw.szz) + 1e-12);
+          EXPECT_NEAR(mg.syz, mw.syz, 1e-4 * std::sqrt(mw.syy * mw.szz) + 1e-12);
+        }
       }
     }
   }

@@ -32,6 +32,8 @@ TEST(MapPoints, ColumnsAndWeightsMatchTheRecords) {
       const int count = std::min(PointChunk::kCapacity, points.size() - begin);
       const PointChunk c = points.chunk(begin, count);
       ASSERT_EQ(c.size, count);
+      // Constant weighting: CCM layers may skip the weights (all 1).
+      EXPECT_EQ(c.unit_ccm_weight, weighting == CcmWeighting::constant);
       for (int k = 0; k < count; ++k) {
         const Measurement& m = cloud[static_cast<std::size_t>(begin + k)];
         ASSERT_EQ(c.x[k], m.p_W.x());
@@ -39,6 +41,7 @@ TEST(MapPoints, ColumnsAndWeightsMatchTheRecords) {
         ASSERT_EQ(c.z[k], m.p_W.z());
         ASSERT_FLOAT_EQ(c.inv_var_z[k], float(1.0 / double(m.cov_zz)));
         ASSERT_EQ(c.lateral_var[k], std::max(m.cov_xx, m.cov_yy));
+        ASSERT_EQ(c.var_z[k], m.cov_zz);
         // Diagonal covariance: trace and det by hand.
         const double xx = m.cov_xx, yy = m.cov_yy, zz = m.cov_zz;
         const double want = weighting == CcmWeighting::constant ? 1.0

@@ -255,5 +255,39 @@ TEST(PublishedGrids, CcmNoiseVarianceAndLateralCovarianceEqualBatch) {
   }
 }
 
+// SPEC 7 on a CCM layer whose cells are not evaluable (no slopes): the pose inflation
+// takes its gradient from the neighbours' heights, so the variance stays a number, and
+// it only grows.
+TEST(PublishedGrids, PoseInflationOfCcmCellsWithoutSlopesStaysFinite) {
+  const MapConfig map = one_layer(RuleKind::ccm, 0.04, 8);
+  LayerStack plain(map, RulesConfig{}), posed(map, RulesConfig{}, /*pose_uncertainty=*/true);
+  PointCloud cloud;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)  // 3 points per cell along a line: never evaluable
+      for (int k = 0; k < 3; ++k) {
+        const double x = -0.16 + 0.04 * i + 0.01 * (k + 1), y = -0.16 + 0.04 * j + 0.02;
+        cloud.push_back(point(x, y, 0.3 * x, 0.002));
+      }
+  for (LayerStack* s : {&plain, &posed}) {
+    s->begin_frame(0.0, 0.0);
+    s->insert(MapPoints(cloud));
+    s->begin_frame(0.0, 0.0, PoseNoise{0.01, 0.01, 0.001, 0.01});
+  }
+  LayerGrids a, b;
+  plain.export_layer(0, a);
+  posed.export_layer(0, b);
+  int known = 0;
+  for (int r = 0; r < 8; ++r)
+    for (int c = 0; c < 8; ++c) {
+      ASSERT_EQ(a.evaluable.at(r, c), 0.0f);
+      ASSERT_TRUE(std::isnan(b.slope_x.at(r, c)));
+      ASSERT_TRUE(std::isfinite(b.variance.at(r, c)));
+      // Sigma_r,zz = 1e-6 at least, plus the slope 0.3 times the lateral noise.
+      EXPECT_GT(b.variance.at(r, c), a.variance.at(r, c) + 1e-6 + 0.5 * 0.09 * 1e-4);
+      ++known;
+    }
+  EXPECT_EQ(known, 64);
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -23,11 +23,13 @@ const PointCloud& frame_cloud(bool far) {
   return c;
 }
 
-/// The same points as the map reads them (made once per frame in the points stage).
-const MapPoints& frame_points(bool far) {
-  static MapPoints near_points, far_points;
-  MapPoints& p = far ? far_points : near_points;
-  if (p.size() == 0) p.assign(frame_cloud(far), CcmWeighting::constant);
+/// The same points as the map reads them (made once per frame in the points stage), with
+/// constant CCM weights (the shipped configs') or trace weights.
+const MapPoints& frame_points(bool far, bool trace = false) {
+  static MapPoints points[2][2];
+  MapPoints& p = points[far][trace];
+  if (p.size() == 0)
+    p.assign(frame_cloud(far), trace ? CcmWeighting::trace : CcmWeighting::constant);
   return p;
 }
 
@@ -46,10 +48,10 @@ MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
 }
 
 /// `whole_frame`: each iteration is a frame, begin_frame (roll, time inflation) included.
-void run_insert(benchmark::State& state, const MapConfig& map, bool whole_frame = false) {
-  RulesConfig rules;
+void run_insert(benchmark::State& state, const MapConfig& map, bool whole_frame = false,
+                const RulesConfig& rules = RulesConfig{}, bool trace_weights = false) {
   LayerStack stack(map, rules);
-  const MapPoints& points = frame_points(state.range(0) != 0);
+  const MapPoints& points = frame_points(state.range(0) != 0, trace_weights);
   stack.begin_frame(0.0, 0.0);
   for (auto _ : state) {
     if (whole_frame) stack.begin_frame(0.0, 0.0);
@@ -79,6 +81,18 @@ void BM_Omg1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::omg, 0.
 void BM_Bananas1cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::bananas, 0.01, 1000}})); }
 void BM_Ccm4cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}})); }
 void BM_Ccm16cm(benchmark::State& s) { run_insert(s, make_map({{RuleKind::ccm, 0.16, 64}})); }
+/// CCM with trace weights: a weight array to read and multiply by, which constant weights
+/// (BM_Ccm4cm) skip.
+void BM_Ccm4cmTraceWeights(benchmark::State& s) {
+  run_insert(s, make_map({{RuleKind::ccm, 0.04, 250}}), false, RulesConfig{}, true);
+}
+/// The 1 cm Kalman layer with the SPEC 4 consistency gate on (gate_sigma 3): its extra
+/// pass over the chunk, against BM_Kalman1cm (gate off).
+void BM_Kalman1cmConsistencyGate(benchmark::State& s) {
+  RulesConfig rules;
+  rules.kalman.gate_sigma = 3.0;
+  run_insert(s, make_map({{RuleKind::kalman, 0.01, 1000}}), false, rules);
+}
 /// 4096 consecutive points of the frame (six image rows, mid-field), inserted over and
 /// over: the cells they touch stay in cache, so this is the 1 cm Kalman layer's compute
 /// alone; the difference to BM_Kalman1cm/0 is what the whole frame's memory traffic adds.
@@ -155,6 +169,8 @@ BENCHMARK(BM_Omg1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bananas1cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm4cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ccm16cm)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ccm4cmTraceWeights)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kalman1cmConsistencyGate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStackByLayer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlightStackFrame)->Arg(0)->Unit(benchmark::kMillisecond);

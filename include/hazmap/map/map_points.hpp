@@ -46,6 +46,7 @@ class MapPoints {
  private:
   std::vector<float> x_, y_, z_, inv_var_z_, ccm_weight_, lateral_var_, var_z_;  ///< size_ + kPad
   int size_ = 0;
+  bool unit_ccm_weight_ = true;
 };
 
 }  // namespace hazmap

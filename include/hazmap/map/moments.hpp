@@ -90,6 +90,19 @@ struct WeightedSums {
     xz += wx * pz;
     yz += wy * pz;
   }
+  /// add() with weight 1 (`live`: 1, or 0 for a lane to leave out, whose p must be 0).
+  [[gnu::always_inline]] void add_unit(T live, T px, T py, T pz) {
+    w += live;
+    x += px;
+    y += py;
+    z += pz;
+    xx += px * px;
+    yy += py * py;
+    zz += pz * pz;
+    xy += px * py;
+    xz += px * pz;
+    yz += py * pz;
+  }
 };
 
 /// Raw weighted sums of one frame's points in one cell, relative to a reference point

@@ -1,9 +1,10 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
-// Cell, Sums, kMergePerRun, kUsesHeightSums, kStampInCell and static known / clear /
-// reference_z / weights / merge_frame / age / to_moments / from_moments / height /
+// Cell, Sums, kMergePerRun, kUsesHeightSums, kStampInCell, kHeightGate and static known /
+// clear / reference_z / weights / merge_frame / age / to_moments / from_moments / height /
 // variance, plus kMergesChunks, run_sums, merge_run and max_precision for rules that
-// merge per run (and merge_chunk_runs where kMergesChunks) and add_run for the others).
+// merge per run (and merge_chunk_runs where kMergesChunks), add_run for the others, and
+// gate_state and Config::gate_sigma where kHeightGate).
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
 // storage slot with straight-line SIMD arithmetic (chunk_slots.hpp): one multiply per

@@ -13,9 +13,9 @@
 
 namespace hazmap {
 
-/// Points [begin, end) of a chunk: weights, cell-centred x and y in cell units, heights
-/// [m], and height variances Sigma_zz [m^2] (plane runs only). Every array must be
-/// readable up to end + 3 (PointChunk::kPad).
+/// Points [begin, end) of a chunk: weights (null: all 1), cell-centred x and y in cell
+/// units, heights [m], and height variances Sigma_zz [m^2] (plane runs only). Every array
+/// must be readable up to end + 3 (PointChunk::kPad).
 struct RunPoints {
   const float* w;
   const float* x;

@@ -58,7 +58,10 @@ struct CcmRule {
   static bool known(const Cell& c) { return c.w > 0.0f; }
   static void clear(Cell& c) { c = Cell{}; }
   static float reference_z(const Cell& c) { return c.mz_m.ref_m; }
-  static const float* weights(const PointChunk& c) { return c.ccm_weight; }
+  /// Null for unit weights: add_plane_run then reads no weights.
+  static const float* weights(const PointChunk& c) {
+    return c.unit_ccm_weight ? nullptr : c.ccm_weight;
+  }
   /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
   static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {  // run.var_z required
     add_plane_run(run, z_ref_m, s);
