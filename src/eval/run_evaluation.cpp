@@ -15,7 +15,6 @@
 #include "../pipeline/json_writer.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
-#include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
@@ -44,9 +43,6 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
   if (config.map.layers.empty()) return layers;
   // SPEC 8.4, 10: both maps are at the finest resolution and must show every obstacle of
   // the critical height.
-  const std::string source = config.hazard.critical_height_m > 0
-                                 ? "hazard.critical_height"
-                                 : "critical height (finest layer's h_min)";
   const std::pair<const char*, const char*> maps[] = {{"fused", "fused_hazard.jdem"},
                                                       {"footprint", "footprint_hazard.jdem"}};
   for (const auto& [name, file] : maps) {
@@ -56,7 +52,7 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
     l.rule = name;
     l.resolution_m = config.map.layers.front().resolution_m;
     l.h_min_m = params.critical_height_m;
-    l.h_min_source = source;
+    l.h_min_source = params.critical_height_source;
     l.hazard_file = file;
     layers.push_back(l);
   }

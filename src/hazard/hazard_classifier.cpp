@@ -51,7 +51,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
       const bool complete = !std::isnan(z) && diag.kernel_fill.at(row, col) >= p.min_kernel_fill;
       // The range is the largest difference among the kernel's observed cells: its hazard
       // side counts the cells it was picked from.
-      const int observed = static_cast<int>(std::lround(diag.kernel_fill.at(row, col) * kernel_cells));
+      const int observed = static_cast<int>(std::lround(double(diag.kernel_fill.at(row, col)) * kernel_cells));
       ev.test(range, diag.kernel_sigma.at(row, col), p.roughness_threshold_m, complete,
               kernel_k_[std::clamp(observed, 0, kernel_cells)]);
       if (p.ring_tests && !ev.hazard()) {
@@ -75,12 +75,14 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
 
 // ---- CCM layers (SPEC 8.2, 8.3) ----
 
-void PlaneClassifier::cell_noise(const LayerGrids& g, int row, int col, double* res_var,
-                                 double* n_eff) const {
-  const double rho = g.roughness.at(row, col);
-  const double noise = noise_at(g.noise_variance, row, col);
-  *res_var = std::max(rho, noise);
-  *n_eff = std::min<double>(g.count.at(row, col), params_.max_effective_count);
+PlaneClassifier::CellNoise PlaneClassifier::cell_noise(const LayerGrids& g, int row,
+                                                       int col) const {
+  CellNoise c;
+  c.rho = g.roughness.at(row, col);
+  c.sensor = noise_at(g.noise_variance, row, col);
+  c.res_var = std::max(c.rho, c.sensor);
+  c.n_eff = std::min<double>(g.count.at(row, col), params_.max_effective_count);
+  return c;
 }
 
 RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y_m) const {
@@ -89,15 +91,14 @@ RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y
   if (!g.height.cell_at(x_m, y_m, &row, &col) || g.evaluable.at(row, col) != 1.0f) return s;
   const double dx = x_m - g.height.x_of_col(col), dy = y_m - g.height.y_of_row(row);
   s.z_m = g.height.at(row, col) + g.slope_x.at(row, col) * dx + g.slope_y.at(row, col) * dy;
-  double res_var, n_eff;
-  cell_noise(g, row, col, &res_var, &n_eff);
+  const CellNoise noise = cell_noise(g, row, col);
   // Least-squares prediction variance res_var / n (1 + d^T C^-1 d), d from the cell centre
   // (an evaluable cell's points spread over it, so their mean is near the centre).
   const double cxx = g.lateral_xx.at(row, col), cyy = g.lateral_yy.at(row, col),
                cxy = g.lateral_xy.at(row, col);
   const double det = cxx * cyy - cxy * cxy;
   const double lever = det > 0 ? (cyy * dx * dx - 2 * cxy * dx * dy + cxx * dy * dy) / det : 0.0;
-  s.var_m2 = res_var / std::max(n_eff, 1.0) * (1.0 + lever);
+  s.var_m2 = noise.res_var / std::max(noise.n_eff, 1.0) * (1.0 + lever);
   s.known = std::isfinite(s.z_m);
   return s;
 }
@@ -111,18 +112,16 @@ void PlaneClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDia
   for (int row = 0; row < h.rows; ++row)
     for (int col = 0; col < h.cols; ++col) {
       const float z = h.at(row, col);
-      if (std::isnan(z) || g.count.at(row, col) < p.min_points) continue;
+      if (std::isnan(z) || double(g.count.at(row, col)) < p.min_points) continue;
       const bool evaluable = g.evaluable.at(row, col) == 1.0f;
-      double res_var, n_eff;
-      cell_noise(g, row, col, &res_var, &n_eff);
+      const CellNoise noise = cell_noise(g, row, col);
+      const double res_var = noise.res_var, n_eff = noise.n_eff;
       Evidence ev(p.k_sigma);
 
       // Sub-cell obstacle: the residual variance beyond the sensor's, whose estimate from
       // n points has a standard deviation of about rho sqrt(2 / (n - 3)).
-      const double rho = g.roughness.at(row, col);
-      const double noise = noise_at(g.noise_variance, row, col);
-      ev.test(rho - noise, rho * std::sqrt(2.0 / std::max(n_eff - 3.0, 1.0)), p.rho_max_m2,
-              evaluable);
+      ev.test(noise.rho - noise.sensor, noise.rho * std::sqrt(2.0 / std::max(n_eff - 3.0, 1.0)),
+              p.rho_max_m2, evaluable);
 
       // Slopes along the principal axes of the points' lateral spread: on a partly covered
       // cell the slope along its well-observed axis is evidence enough. Slope i has

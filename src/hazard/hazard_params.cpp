@@ -52,6 +52,9 @@ HazardParams resolve_hazard_params(const Config& config) {
   p.critical_height_m = config.hazard.critical_height_m > 0 ? config.hazard.critical_height_m
                         : p.layers.empty()                   ? 0.0
                                                              : p.layers.front().h_min_m;
+  p.critical_height_source = config.hazard.critical_height_m > 0
+                                 ? "hazard.critical_height"
+                                 : "critical height (finest layer's h_min)";
   p.footprint_radius_m = config.hazard.footprint_radius_m >= 0 ? config.hazard.footprint_radius_m
                                                                : config.hazard.wheelbase_m / 2.0;
   p.fused_extent_m = config.hazard.fused_extent_m > 0 ? config.hazard.fused_extent_m : largest;

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-
 namespace hazmap {
 namespace {
 
@@ -49,8 +48,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   report.ms.map_ms = ms_since(t);
   for (size_t i = 0; i < map_.size(); ++i) {
     layer_gates_[i] = map_.gate_counts(i);
-    report.gated.std_gate += layer_gates_[i].std_gate;
-    report.gated.consistency_gate += layer_gates_[i].consistency_gate;
+    report.gated += layer_gates_[i];
   }
 
   t = Clock::now();

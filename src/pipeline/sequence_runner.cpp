@@ -75,10 +75,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     GateCounts gated;
     for (const auto& f : frames) {
       layer_ms += i < f.layer_map_ms.size() ? f.layer_map_ms[i] : 0.0;
-      if (i < f.layer_gates.size()) {
-        gated.std_gate += f.layer_gates[i].std_gate;
-        gated.consistency_gate += f.layer_gates[i].consistency_gate;
-      }
+      if (i < f.layer_gates.size()) gated += f.layer_gates[i];
     }
     j.begin_object();
     j.key("resolution_m").value(l.resolution_m);

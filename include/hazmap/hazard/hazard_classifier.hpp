@@ -61,8 +61,12 @@ class PlaneClassifier final : public HazardClassifier {
   RingSample surface_at(const LayerGrids& grids, double x_m, double y_m) const;
 
  private:
-  /// Residual variance about the plane and the number of points it rests on.
-  void cell_noise(const LayerGrids& g, int row, int col, double* res_var, double* n_eff) const;
+  /// A cell's noise statistics: its roughness rho, the sensor part of it, the residual
+  /// variance about the plane and the number of points it rests on.
+  struct CellNoise {
+    double rho, sensor, res_var, n_eff;
+  };
+  CellNoise cell_noise(const LayerGrids& g, int row, int col) const;
 };
 
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);

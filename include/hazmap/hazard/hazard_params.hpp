@@ -46,6 +46,7 @@ struct LayerHazardParams {
 struct HazardParams {
   std::vector<LayerHazardParams> layers;  ///< finest first
   double critical_height_m = 0.03;        ///< SPEC 8.4
+  std::string critical_height_source;     ///< how it was obtained
   double footprint_radius_m = 0.15;       ///< SPEC 8.5
   double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
 };

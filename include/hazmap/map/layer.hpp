@@ -60,6 +60,12 @@ struct GateCounts {
   std::size_t std_gate = 0;
   /// |z - mu| > gate_sigma sqrt(var + sigma_m^2) against a known cell (Kalman, OMG).
   std::size_t consistency_gate = 0;
+
+  GateCounts& operator+=(const GateCounts& o) {
+    std_gate += o.std_gate;
+    consistency_gate += o.consistency_gate;
+    return *this;
+  }
 };
 
 class Layer {
