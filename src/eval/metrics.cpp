@@ -114,6 +114,31 @@ void pixel_bounds(const DenseGrid& window, const GroundTruth& gt, const Pose3d& 
 
 }  // namespace
 
+GroundTruth dilate_obstacles(const GroundTruth& gt, double radius_m) {
+  check(radius_m >= 0.0 && std::isfinite(radius_m),
+        "evaluation: the footprint radius must be a non-negative number");
+  GroundTruth out = gt;
+  const DenseGrid& src = gt.hazard;
+  const int reach = static_cast<int>(std::floor(radius_m / src.resolution_m + 1e-9));
+  const double r2 = (radius_m / src.resolution_m) * (radius_m / src.resolution_m) + 1e-9;
+  // Obstacles cover a few percent of a scene: splat each one into its disc.
+  for (int r = 0; r < src.rows; ++r)
+    for (int c = 0; c < src.cols; ++c) {
+      const float h = src.at(r, c);
+      if (!(h > 0.0f)) continue;
+      for (int dr = -reach; dr <= reach; ++dr)
+        for (int dc = -reach; dc <= reach; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr < 0 || cc < 0 || rr >= src.rows || cc >= src.cols ||
+              double(dr * dr + dc * dc) > r2)
+            continue;
+          float& o = out.hazard.at(rr, cc);
+          if (std::isfinite(o) && o < h) o = h;
+        }
+    }
+  return out;
+}
+
 MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
                        double h_min_m, ErrorMaps* maps, const NearRegion* near,
                        MetricSums* near_sums) {

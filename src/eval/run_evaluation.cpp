@@ -54,6 +54,7 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
     l.h_min_m = params.critical_height_m;
     l.h_min_source = params.critical_height_source;
     l.hazard_file = file;
+    if (std::string(name) == "footprint") l.gt_dilation_m = params.footprint_radius_m;
     layers.push_back(l);
   }
   return layers;
@@ -458,7 +459,8 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       "layer calls a hazard. Recall = share of the obstacle pixels (>= h_min) in the window "
       "labelled hazard; obstacles unknown = share labelled unknown. \"All heights\" columns "
       "count every published height, cells of unknown class included. The fused and "
-      "footprint maps are scored with the critical height as h_min.";
+      "footprint maps are scored with the critical height as h_min; the footprint map "
+      "against obstacles dilated by the footprint radius (where the rover's centre may be).";
   if (near)
     summary.text += " Near = ground-truth pixels within " + fmt(ev.near_radius_m, "%g") +
                     " m of the rover's true position in each frame.";
@@ -567,6 +569,14 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   std::vector<std::pair<std::string, fs::path>> error_pngs;
   ev.pooled.assign(ev.layers.size(), MetricSums{});
   if (options.near_enabled()) ev.near_pooled.assign(ev.layers.size(), MetricSums{});
+  // Dilated truths, one per radius in use (the footprint map's), made once.
+  std::map<double, GroundTruth> dilated;
+  for (const EvaluatedLayer& L : ev.layers)
+    if (L.gt_dilation_m > 0.0 && !dilated.count(L.gt_dilation_m))
+      dilated.emplace(L.gt_dilation_m, dilate_obstacles(gt, L.gt_dilation_m));
+  const auto truth_for = [&](const EvaluatedLayer& L) -> const GroundTruth& {
+    return L.gt_dilation_m > 0.0 ? dilated.at(L.gt_dilation_m) : gt;
+  };
   for (size_t f = 0; f < ev.frames.size(); ++f) {
     const std::string& name = ev.frames[f];
     Pose3d T_map_W = Pose3d::Identity();
@@ -599,7 +609,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       ErrorMaps maps;
       MetricSums near_sums;
       const MetricSums s =
-          score_layer(layer, gt, T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr,
+          score_layer(layer, truth_for(ev.layers[l]), T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr,
                       options.near_enabled() ? &near : nullptr, &near_sums);
       ev.pooled[l] += s;
       row.push_back(s);

@@ -2,6 +2,9 @@
 
 #include "hazmap/eval/metrics.hpp"
 
+#include <cmath>
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "hazmap/core/error.hpp"
@@ -259,6 +262,44 @@ TEST(MetricSums, NewMetricsPoolExactlyThroughSums) {
   EXPECT_NEAR(m.height_rms_all_m, std::sqrt((3e-4 + 2.5e-3) / 4.0), 1e-15);
   EXPECT_NEAR(m.variance_violation_all, 2.0 / 5.0, 1e-15);
   EXPECT_EQ(m.height_samples_all, 4u);
+}
+
+// The footprint's truth: every pixel whose centre lies within the radius of an obstacle
+// pixel's centre takes that obstacle's height (the tallest when several reach it),
+// checked against a brute-force search over all pixel pairs.
+TEST(DilateObstacles, EachPixelTakesTheTallestObstacleWithinTheRadius) {
+  GroundTruth gt;
+  gt.height.reset(30, 40, 0.01, 0.0, 0.0, 0.0f);
+  gt.hazard.reset(30, 40, 0.01, 0.0, 0.0, 0.0f);
+  gt.hazard.at(5, 6) = 0.05f;
+  gt.hazard.at(8, 9) = 0.12f;  // overlaps the first one's disc
+  gt.hazard.at(20, 39) = 0.03f;  // at the border: its disc is clipped
+  gt.hazard.at(0, 30) = std::numeric_limits<float>::quiet_NaN();  // no data stays no data
+  const double radius = 0.045;
+  const GroundTruth d = dilate_obstacles(gt, radius);
+  int reached = 0;
+  for (int r = 0; r < 30; ++r)
+    for (int c = 0; c < 40; ++c) {
+      if (r == 0 && c == 30) {
+        EXPECT_TRUE(std::isnan(d.hazard.at(r, c)));
+        continue;
+      }
+      float expect = 0.0f;
+      for (int rr = 0; rr < 30; ++rr)
+        for (int cc = 0; cc < 40; ++cc) {
+          const float h = gt.hazard.at(rr, cc);
+          const double dist = std::hypot(gt.hazard.x_of_col(c) - gt.hazard.x_of_col(cc),
+                                         gt.hazard.y_of_row(r) - gt.hazard.y_of_row(rr));
+          if (h > expect && dist <= radius) expect = h;
+        }
+      EXPECT_EQ(d.hazard.at(r, c), expect) << r << "," << c;
+      reached += expect > 0.0f;
+      EXPECT_EQ(d.height.at(r, c), gt.height.at(r, c));
+    }
+  // Two overlapping discs of 69 pixels (radius 4.5 px) and half a disc at the border.
+  EXPECT_GT(reached, 69 + 30);
+  EXPECT_LT(reached, 2 * 69 + 69);
+  EXPECT_THROW(dilate_obstacles(gt, -0.01), Error);
 }
 
 TEST(ScoreLayer, RejectsMismatchedGrids) {

@@ -208,10 +208,13 @@ TEST(RunEvaluation, FusedAndFootprintUseTheCriticalHeight) {
   const Config c = parse_config(
       "map:\n  layers:\n    - {resolution: 0.04, size: 20, rule: ccm}\n"
       "    - {resolution: 0.08, size: 20, rule: ccm}\n"
-      "hazard: {critical_height: 0.045}\n",
+      "hazard: {critical_height: 0.045, wheelbase: 0.3}\n",
       "test");
   const std::vector<EvaluatedLayer> layers = evaluated_layers(c, true);
   ASSERT_EQ(layers.size(), 4u);
+  // Only the footprint map is scored against dilated obstacles, by wheelbase / 2.
+  EXPECT_EQ(layers[2].gt_dilation_m, 0.0);
+  EXPECT_DOUBLE_EQ(layers[3].gt_dilation_m, 0.15);
   EXPECT_NEAR(layers[0].h_min_m, 0.03, 1e-12);
   EXPECT_NEAR(layers[1].h_min_m, 0.06, 1e-12);
   for (size_t i : {2u, 3u}) {
@@ -225,9 +228,11 @@ TEST(RunEvaluation, FusedAndFootprintUseTheCriticalHeight) {
 
 TEST(RunEvaluation, FootprintMapIsScoredWhenWrittenAndSkippedWhenNot) {
   // Critical height 5 cm while L0's h_min is 3 cm: the footprint (here: the L0 hazard
-  // grid with rock 1 deleted in frame 2) misses exactly rock 1's pixels >= 5 cm.
+  // grid with rock 1 deleted in frame 2) misses exactly rock 1's pixels >= 5 cm. A zero
+  // footprint radius makes the footprint's truth the rocks themselves (no dilation).
   Oracle t;
   t.config.hazard.critical_height_m = 0.05;
+  t.config.hazard.footprint_radius_m = 0.0;
   const TestWorld w = rocky_world();
   const auto layers = t.layers(w);
   t.write(w, {layers, layers});
@@ -251,6 +256,7 @@ TEST(RunEvaluation, FootprintMapIsScoredWhenWrittenAndSkippedWhenNot) {
   ASSERT_EQ(ev.layers.size(), 4u);
   EXPECT_EQ(ev.layers[3].name, "footprint");
   EXPECT_DOUBLE_EQ(ev.layers[3].h_min_m, 0.05);
+  EXPECT_EQ(ev.layers[3].gt_dilation_m, 0.0);
   const LayerMetrics first = derive_metrics(ev.sums[0][3]);
   const LayerMetrics second = derive_metrics(ev.sums[1][3]);
   EXPECT_EQ(first.missed_area_m2, 0.0);

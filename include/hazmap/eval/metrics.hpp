@@ -142,6 +142,12 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
                        double h_min_m, ErrorMaps* maps = nullptr, const NearRegion* near = nullptr,
                        MetricSums* near_sums = nullptr);
 
+/// The ground truth of a rover-centre map (the footprint map, SPEC 8.5): each pixel's
+/// obstacle height becomes the tallest obstacle within `radius_m` of its centre (pixel
+/// centres compared), so a footprint cell is truly hazardous when the rover centred there
+/// would touch an obstacle. Heights are unchanged. radius_m >= 0.
+GroundTruth dilate_obstacles(const GroundTruth& gt, double radius_m);
+
 /// Map height at map-frame point (x, y): the cell's height, or for a layer with planes
 /// the plane through it; NaN when outside the window or unknown. A CCM cell whose slopes
 /// are NaN (not evaluable) gives its cell height.

@@ -65,6 +65,9 @@ struct EvaluatedLayer {
   double h_min_m = 0.0;
   std::string h_min_source;  ///< "hazard.h_min", "0.75 r", "roughness threshold", ...
   std::string hazard_file;   ///< the hazard-only map's file (index -1), e.g. fused_hazard.jdem
+  /// > 0: scored against obstacles dilated by this radius (dilate_obstacles): the
+  /// footprint map's truth is the rover centre's configuration space, not the rocks.
+  double gt_dilation_m = 0.0;
 };
 
 struct RunEvaluation {
