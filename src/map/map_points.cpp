@@ -1,6 +1,7 @@
 #include "hazmap/map/map_points.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hazmap {
 
@@ -26,7 +27,10 @@ void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
     z_[i] = m.p_W.z();
     inv_var_z_[i] = 1.0f / m.cov_zz;
     var_z_[i] = m.cov_zz;
-    lateral_var_[i] = std::max(m.cov_xx, m.cov_yy);
+    // The major axis of the horizontal covariance: max(xx, yy) alone halves the variance
+    // of a ray seen at 45 deg to the axes and lets far points through the gate.
+    const float half_sum = 0.5f * (m.cov_xx + m.cov_yy), half_gap = 0.5f * (m.cov_xx - m.cov_yy);
+    lateral_var_[i] = half_sum + std::sqrt(half_gap * half_gap + m.cov_xy * m.cov_xy);
   }
   unit_ccm_weight_ = weighting == CcmWeighting::constant;
   if (weighting == CcmWeighting::constant)

@@ -4,7 +4,9 @@
 #include "hazmap/map/map_points.hpp"
 
 #include <algorithm>
+#include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 namespace hazmap {
@@ -21,6 +23,36 @@ PointCloud sample_cloud(int n) {
     m.cov_xy = m.cov_xz = m.cov_yz = 0.0f;
   }
   return cloud;
+}
+
+// A ray's covariance, long along the ray, seen at any heading: the gate's variance is the
+// long axis (an eigen-decomposition by Eigen), whatever the heading.
+TEST(MapPoints, LateralVarianceIsTheMajorAxisAtAnyHeading) {
+  PointCloud cloud;
+  const double along = 4e-4, across = 1e-6;  // 2 cm along the ray, 1 mm across
+  for (int i = 0; i < 16; ++i) {
+    const double a = i * M_PI / 16;
+    Eigen::Matrix2d R;
+    R << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+    const Eigen::Matrix2d S = R * Eigen::Vector2d(along, across).asDiagonal() * R.transpose();
+    Measurement m{};
+    m.p_W = Eigen::Vector3f(1.0f, 0.0f, 0.0f);
+    m.cov_xx = float(S(0, 0));
+    m.cov_yy = float(S(1, 1));
+    m.cov_xy = float(S(0, 1));
+    m.cov_zz = 1e-6f;
+    cloud.push_back(m);
+  }
+  const MapPoints points(cloud, CcmWeighting::constant);
+  const PointChunk c = points.chunk(0, 16);
+  for (int i = 0; i < 16; ++i) {
+    const Measurement& m = cloud[static_cast<std::size_t>(i)];
+    Eigen::Matrix2d S;
+    S << m.cov_xx, m.cov_xy, m.cov_xy, m.cov_yy;
+    const double major = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S).eigenvalues()(1);
+    EXPECT_NEAR(c.lateral_var[i], major, 1e-6 * major) << i;
+    EXPECT_NEAR(c.lateral_var[i], along, 1e-5 * along) << i;
+  }
 }
 
 TEST(MapPoints, ColumnsAndWeightsMatchTheRecords) {
@@ -40,7 +72,7 @@ TEST(MapPoints, ColumnsAndWeightsMatchTheRecords) {
         ASSERT_EQ(c.y[k], m.p_W.y());
         ASSERT_EQ(c.z[k], m.p_W.z());
         ASSERT_FLOAT_EQ(c.inv_var_z[k], float(1.0 / double(m.cov_zz)));
-        ASSERT_EQ(c.lateral_var[k], std::max(m.cov_xx, m.cov_yy));
+        ASSERT_FLOAT_EQ(c.lateral_var[k], std::max(m.cov_xx, m.cov_yy));  // diagonal here
         ASSERT_EQ(c.var_z[k], m.cov_zz);
         // Diagonal covariance: trace and det by hand.
         const double xx = m.cov_xx, yy = m.cov_yy, zz = m.cov_zz;

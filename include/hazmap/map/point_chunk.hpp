@@ -18,7 +18,7 @@ struct PointChunk {
   const float* inv_var_z = nullptr;    ///< Kalman and OMG weight 1 / Sigma_zz
   const float* ccm_weight = nullptr;   ///< CCM weight (SPEC 4)
   bool unit_ccm_weight = false;        ///< every ccm_weight is 1 (constant weighting)
-  const float* lateral_var = nullptr;  ///< max(Sigma_xx, Sigma_yy): the SPEC 4 gate
+  const float* lateral_var = nullptr;  ///< major-axis variance of Sigma_xy: the SPEC 4 gate
   /// Sigma_zz [m^2] itself (not 1 / inv_var_z: exact, and no division per point): the
   /// baseline's variance, the CCM noise variance and the SPEC 4 consistency gate.
   const float* var_z = nullptr;
