@@ -99,8 +99,8 @@ Batch batch(const std::vector<Measurement>& pts, const std::vector<double>& weig
 }
 
 // SPEC 6.4: a CCM cell that is not evaluable (its points cover one corner, or too few of
-// them) publishes mu_z, NaN slopes and Szz/W + (r^2/12) tan^2(max_slope); an evaluable
-// cell publishes its plane at the centre and Szz/W.
+// them) publishes mu_z, NaN slopes and Szz/W + (r^2/12 + |mu_xy|^2) tan^2(max_slope); an
+// evaluable cell publishes its plane at the centre and Szz/W.
 TEST(PublishedGrids, CcmCellThatIsNotEvaluablePublishesItsMeanAndTheTiltItMayHide) {
   const double r = 0.04, max_slope_deg = 25.0;
   HazardConfig hazard;
@@ -133,7 +133,7 @@ TEST(PublishedGrids, CcmCellThatIsNotEvaluablePublishesItsMeanAndTheTiltItMayHid
   s.insert(MapPoints(cloud));
   LayerGrids g;
   s.export_layer(0, g);
-  const double tilt = r * r / 12.0 * std::pow(std::tan(max_slope_deg * M_PI / 180.0), 2);
+  const double tan2 = std::pow(std::tan(max_slope_deg * M_PI / 180.0), 2);
   struct Case {
     const std::vector<Measurement>* pts;
     double cx, cy;
@@ -155,7 +155,16 @@ TEST(PublishedGrids, CcmCellThatIsNotEvaluablePublishesItsMeanAndTheTiltItMayHid
       EXPECT_NEAR(g.height.at(row, col), b.mz, 1e-6);  // mu_z, not the plane at the centre
       EXPECT_TRUE(std::isnan(g.slope_x.at(row, col)));
       EXPECT_TRUE(std::isnan(g.slope_y.at(row, col)));
+      const double tilt = (r * r / 12.0 + b.mx * b.mx + b.my * b.my) * tan2;
       EXPECT_NEAR(g.variance.at(row, col), szz_w + tilt, 1e-5 * (szz_w + tilt));
+      // The true plane (19.8 deg, under max_slope) at every corner of the cell lies within
+      // 3 sigma of the published mu_z.
+      for (double qx : {-0.5 * r, 0.5 * r})
+        for (double qy : {-0.5 * r, 0.5 * r}) {
+          const double truth = 1.0 + 0.3 * (c.cx + qx) - 0.2 * (c.cy + qy);
+          EXPECT_LT(std::abs(truth - g.height.at(row, col)), 3.0 * std::sqrt(g.variance.at(row, col)))
+              << c.cx << " " << c.cy << " corner " << qx << " " << qy;
+        }
     }
   }
   // The corner cell's mean lies ~ r/4 from the centre in x and y: the plane there would

@@ -168,15 +168,18 @@ struct CcmRule {
   }
 
   /// Published height variance (SPEC 6.4): szz / W on an evaluable cell; on one that is
-  /// not, whose published height is mu_z, plus (r^2/12) tan^2(max_slope): the variance
-  /// over the cell of a plane tilted by max_slope, which nobody measured.
+  /// not, whose published height is mu_z (the height at the points' mean), plus
+  /// (r^2/12 + |mu_xy|^2) tan^2(max_slope): the mean square, over the cell, of a plane
+  /// tilted by max_slope about the points' mean, which nobody measured (a cell seen in
+  /// one corner is extrapolated farther).
   static double published_variance(const Config& cfg, const Cell& c, double cell_m,
                                     bool evaluable) {
     if (!known(c)) return std::numeric_limits<double>::quiet_NaN();
     const double v = double(c.szz) / double(c.w);
     if (evaluable) return v;
     const double t = std::tan(cfg.max_slope_rad);
-    return v + cell_m * cell_m / 12.0 * t * t;
+    const double lever2 = cell_m * cell_m / 12.0 + double(c.mx_m) * c.mx_m + double(c.my_m) * c.my_m;
+    return v + lever2 * t * t;
   }
 };
 
