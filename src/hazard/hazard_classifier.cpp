@@ -64,7 +64,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazar
             if (r < 0 || c < 0 || r >= h.rows || c >= h.cols) continue;
             const float zk = h.at(r, c);
             if (std::isnan(zk)) continue;
-            s[k] = {zk, g.variance.at(r, c), true};
+            s[k] = {zk, g.variance.at(r, c), true, true};
           }
           ring_.step_test(z, g.variance.at(row, col), s, p.h_min_m, tan_slope, ev);
         }
@@ -88,10 +88,18 @@ PlaneClassifier::CellNoise PlaneClassifier::cell_noise(const LayerGrids& g, int 
 RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y_m) const {
   RingSample s;
   int row = 0, col = 0;
-  if (!g.height.cell_at(x_m, y_m, &row, &col) || g.evaluable.at(row, col) != 1.0f) return s;
+  if (!g.height.cell_at(x_m, y_m, &row, &col) || std::isnan(g.height.at(row, col))) return s;
+  const CellNoise noise = cell_noise(g, row, col);
+  if (g.evaluable.at(row, col) != 1.0f) {
+    // Evidence only: the cell's published mu_z, whose variance covers the tilt it may
+    // hide (SPEC 6.4), plus its points' sensor variance (a few points' spread says little).
+    s.z_m = g.height.at(row, col);
+    s.var_m2 = g.variance.at(row, col) + noise.sensor;
+    s.known = std::isfinite(s.var_m2);
+    return s;
+  }
   const double dx = x_m - g.height.x_of_col(col), dy = y_m - g.height.y_of_row(row);
   s.z_m = g.height.at(row, col) + g.slope_x.at(row, col) * dx + g.slope_y.at(row, col) * dy;
-  const CellNoise noise = cell_noise(g, row, col);
   // Least-squares prediction variance res_var / n (1 + d^T C^-1 d), d from the cell centre
   // (an evaluable cell's points spread over it, so their mean is near the centre).
   const double cxx = g.lateral_xx.at(row, col), cyy = g.lateral_yy.at(row, col),
@@ -99,7 +107,7 @@ RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y
   const double det = cxx * cyy - cxy * cxy;
   const double lever = det > 0 ? (cyy * dx * dx - 2 * cxy * dx * dy + cxx * dy * dy) / det : 0.0;
   s.var_m2 = noise.res_var / std::max(noise.n_eff, 1.0) * (1.0 + lever);
-  s.known = std::isfinite(s.z_m);
+  s.known = s.exact = std::isfinite(s.z_m);
   return s;
 }
 

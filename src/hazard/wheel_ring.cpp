@@ -17,7 +17,7 @@ void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope
   const double norm = 4.0 * radius_ * radius_;
   double a = 0, b = 0, var_a = 0, var_b = 0;
   for (int k = 0; k < kSamples; ++k) {
-    if (!s[k].known) {
+    if (!s[k].exact) {
       ev.missing();
       return;
     }
@@ -34,12 +34,13 @@ void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope
 
 void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSamples],
                           double h_min_m, double tan_max_slope, Evidence& ev) const {
-  int known = 0;
+  int known = 0, exact = 0;
   double sum = 0, sum_var = 0;
   double lowest = std::numeric_limits<double>::infinity(), lowest_var = 0;
   for (int k = 0; k < kSamples; ++k) {
     if (!s[k].known) continue;
     ++known;
+    exact += s[k].exact;
     sum += s[k].z_m;
     sum_var += s[k].var_m2;
     if (s[k].z_m < lowest) {
@@ -47,16 +48,35 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
       lowest_var = s[k].var_m2;
     }
   }
-  if (known == kSamples) {
+  if (exact == kSamples) {
     const double ground = sum / kSamples;
     ev.test(h_m - ground, std::sqrt(var_h_m2 + sum_var / (kSamples * kSamples)), h_min_m, true);
     return;
   }
   ev.missing();
-  if (known > 0)
-    // The lowest of `known` noisy samples: its k counts them (kernel_k_sigma).
-    ev.evidence(h_m - (lowest + radius_ * tan_max_slope), std::sqrt(var_h_m2 + lowest_var),
-                h_min_m, kernel_k_sigma(ev.k(), known));
+  if (known == 0) return;
+  // The lowest of `known` noisy samples: its k counts them (kernel_k_sigma).
+  ev.evidence(h_m - (lowest + radius_ * tan_max_slope), std::sqrt(var_h_m2 + lowest_var),
+              h_min_m, kernel_k_sigma(ev.k(), known));
+  // Opposite samples: across planar ground their mean is the height under the centre
+  // with no slope allowance, as the full ring's mean is. A cell standing h_min above the
+  // line between one such pair is a bump on that cross-section (a pair may also land on
+  // the obstacle itself, so the lowest pair is the one to compare); k counts the pairs.
+  int pairs = 0;
+  double ground = std::numeric_limits<double>::infinity(), ground_var = 0;
+  for (int k = 0; k < kSamples / 2; ++k) {
+    const RingSample &a = s[k], &b = s[k + kSamples / 2];
+    if (!a.known || !b.known) continue;
+    ++pairs;
+    const double mean = 0.5 * (a.z_m + b.z_m);
+    if (mean < ground) {
+      ground = mean;
+      ground_var = 0.25 * (a.var_m2 + b.var_m2);
+    }
+  }
+  if (pairs > 0)
+    ev.evidence(h_m - ground, std::sqrt(var_h_m2 + ground_var), h_min_m,
+                kernel_k_sigma(ev.k(), pairs));
 }
 
 }  // namespace hazmap

@@ -65,6 +65,9 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("z_min", s.z_min_m);
   m.get("z_max", s.z_max_m);
   m.get("max_below_ground", s.max_below_ground_m);
+  m.get("support_rows", s.support_rows);
+  m.get("support_tolerance", s.support_tolerance);
+  m.get("support_margin_px", s.support_margin_px);
   m.finish();
 }
 
@@ -289,6 +292,12 @@ void validate(const Config& c) {
     invalid("hazard.fused_extent", "must be in [0, 1e4) m (0: the largest layer's extent)");
   if (!std::isfinite(c.stereo.max_below_ground_m))
     invalid("stereo.max_below_ground", "must be finite (<= 0 disables the check)");
+  if (c.stereo.support_rows < 0 || c.stereo.support_rows > 100000)
+    invalid("stereo.support_rows", "must be in [0, 100000] pixels (0: off)");
+  if (!(c.stereo.support_tolerance >= 0 && c.stereo.support_tolerance < 1))
+    invalid("stereo.support_tolerance", "must be in [0, 1)");
+  if (!(c.stereo.support_margin_px >= 0 && c.stereo.support_margin_px < 1e4))
+    invalid("stereo.support_margin_px", "must be in [0, 1e4) pixels");
   if (c.output.every_n < 1) invalid("output.every_n", "must be >= 1");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
@@ -321,7 +330,10 @@ std::string to_yaml(const Config& c) {
       << s.roi_px[1] << s.roi_px[2] << s.roi_px[3] << YAML::EndSeq
       << YAML::Key << "z_min" << YAML::Value << s.z_min_m
       << YAML::Key << "z_max" << YAML::Value << s.z_max_m
-      << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m << YAML::EndMap;
+      << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m
+      << YAML::Key << "support_rows" << YAML::Value << s.support_rows
+      << YAML::Key << "support_tolerance" << YAML::Value << s.support_tolerance
+      << YAML::Key << "support_margin_px" << YAML::Value << s.support_margin_px << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::BeginMap
       << YAML::Key << "model" << YAML::Value << c.sensor.model
       << YAML::Key << "pointing_error_px" << YAML::Value << c.sensor.pointing_error_px

@@ -39,6 +39,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   points_.assign(front_.cloud(), weighting_);
   report.points = front_.cloud().size();
   report.points_below_ground = front_.points_below_ground();
+  report.disparities_unsupported = front_.disparities_unsupported();
   report.ms.points_ms = stereo.points_ms + ms_since(t);
 
   t = Clock::now();

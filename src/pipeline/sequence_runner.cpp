@@ -21,6 +21,7 @@ struct FrameRecord {
   std::string name;
   size_t points = 0;
   size_t points_below_ground = 0;  ///< SPEC 3.3, not in `points`
+  size_t disparities_unsupported = 0;
   double read_ms = 0, write_ms = 0;
   StageTimes ms;
   bool written = false;
@@ -40,12 +41,13 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("config").value(options.config_path.string());
   j.key("frames_selected").value(frames_total);
   j.key("frames_processed").value(frames.size());
-  size_t points = 0, below_ground = 0;
+  size_t points = 0, below_ground = 0, unsupported = 0;
   StageTimes sum;
   double read = 0, write = 0;
   for (const auto& f : frames) {
     points += f.points;
     below_ground += f.points_below_ground;
+    unsupported += f.disparities_unsupported;
     sum.rectify_ms += f.ms.rectify_ms;
     sum.disparity_ms += f.ms.disparity_ms;
     sum.points_ms += f.ms.points_ms;
@@ -56,6 +58,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   }
   j.key("points_total").value(points);
   j.key("points_below_ground_total").value(below_ground);
+  j.key("disparities_unsupported_total").value(unsupported);
   const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
   j.key("mean_ms_per_frame").begin_object();
   j.key("read").value(read / n);
@@ -94,6 +97,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("name").value(f.name);
     j.key("points").value(f.points);
     j.key("points_below_ground").value(f.points_below_ground);
+    j.key("disparities_unsupported").value(f.disparities_unsupported);
     j.key("gated").begin_array();  // per layer, SPEC 4
     for (size_t i = 0; i < f.layer_gates.size(); ++i) {
       j.begin_object();
@@ -173,6 +177,7 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     rec.ms = report.ms;
     rec.layer_map_ms = pipeline.layer_map_ms();
     rec.points_below_ground = report.points_below_ground;
+    rec.disparities_unsupported = report.disparities_unsupported;
     rec.layer_gates = pipeline.layer_gates();
 
     const bool write = i % config.output.every_n == 0 || i == n - 1;

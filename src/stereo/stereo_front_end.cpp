@@ -18,6 +18,7 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
     : grey_(stereo.input_bits),
       rectifier_(calibration, stereo.rectify_alpha),
       matcher_(stereo),
+      support_(stereo.support_rows, stereo.support_tolerance, stereo.support_margin_px),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),
       keep_pixels_(keep_pixels) {}
@@ -35,6 +36,7 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
 
   t = Clock::now();
   matcher_.compute(rect_left_, rect_right_, disparity_);
+  unsupported_ = support_.apply(disparity_, matcher_.invalid_below());
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();

@@ -263,5 +263,40 @@ TEST(AnalyticHazards, FlatRockTopWiderThanTheKernelIsAHazardOnEveryLayerThatVouc
   EXPECT_LT(views[0].diagnostics.kernel_range.at(row, col), 0.005);
 }
 
+TEST(AnalyticHazards, RockTopIsAHazardWhenTheGroundAroundIsOnlyPartlySeen) {
+  // The 6 cm block again, but the ground around it is seen in 1.2 cm strips only (every
+  // 4 cm cell's points cover a third of it: no ground cell of the 4 cm layer is
+  // evaluable), as next to a real rock. The ring's samples on those cells are evidence
+  // (mu_z with its honest variance), so the top is a hazard; they never prove anything.
+  const Config config = analytic_config({{RuleKind::ccm, 0.04}});
+  const double xc = 0.3, yc = 0.1, half = 0.12;
+  const auto on_top = [&](double x, double y) {
+    return std::abs(x - xc) < half && std::abs(y - yc) < half;
+  };
+  const Visible strips = [&](double x, double y) {
+    return on_top(x, y) || std::fmod(x + 10.0, 0.04) < 0.012;
+  };
+  const auto views = map_surface(
+      config, [&](double x, double y) { return on_top(x, y) ? 0.06 : 0.0; }, 1.4, 0.002, 0.001, 3,
+      strips);
+  const DenseGrid& h = views[0].hazard;
+  const LayerGrids& g = views[0].map;
+  int row = 0, col = 0;
+  ASSERT_TRUE(h.cell_at(xc + 0.001, yc + 0.001, &row, &col));
+  EXPECT_EQ(h.at(row, col), float(HazardClass::hazard));
+  int ground_cells = 0;
+  for (int r = 0; r < h.rows; ++r)
+    for (int c = 0; c < h.cols; ++c) {
+      const double x = h.x_of_col(c), y = h.y_of_row(r);
+      if (std::abs(x) > 1.2 || std::abs(y) > 1.2 || std::hypot(x - xc, y - yc) < 0.4) continue;
+      if (std::isnan(g.height.at(r, c))) continue;
+      ++ground_cells;
+      EXPECT_EQ(g.evaluable.at(r, c), 0.0f);
+      // Flat ground seen in strips: neither proven traversable nor (noise) a hazard.
+      EXPECT_EQ(h.at(r, c), float(HazardClass::unknown)) << x << " " << y;
+    }
+  EXPECT_GT(ground_cells, 1000);
+}
+
 }  // namespace
 }  // namespace hazmap

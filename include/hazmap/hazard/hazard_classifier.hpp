@@ -56,8 +56,9 @@ class PlaneClassifier final : public HazardClassifier {
   using HazardClassifier::HazardClassifier;
   void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
 
-  /// Sub-cell height of the plane surface at W point (x, y) and its variance; unknown
-  /// (known = false) outside the grid or on a cell that is not evaluable.
+  /// Sub-cell height of the plane surface at W point (x, y) and its variance (exact); on a
+  /// known cell that is not evaluable its mu_z with the published and sensor variance
+  /// (known, not exact: evidence only); unknown outside the grid or on an empty cell.
   RingSample surface_at(const LayerGrids& grids, double x_m, double y_m) const;
 
  private:

@@ -14,7 +14,8 @@ namespace hazmap {
 struct RingSample {
   double z_m = 0.0;
   double var_m2 = 0.0;
-  bool known = false;
+  bool known = false;  ///< a height with an honest variance: evidence for a hazard
+  bool exact = false;  ///< known well enough to prove (a CCM sample on an evaluable plane)
 };
 
 class WheelRing {
@@ -27,14 +28,15 @@ class WheelRing {
   double dy(int k) const { return dy_[k]; }
 
   /// Vehicle slope: tan of the ring plane's inclination against tan(max_slope); needs
-  /// every sample (else the test is missing: the cell cannot be proven traversable).
+  /// every sample exact (else the test is missing: the cell cannot be proven traversable).
   void slope_test(const RingSample (&s)[kSamples], double tan_max_slope, Evidence& ev) const;
 
   /// Step above the ring: the cell height h (variance var_h) above the ring plane
-  /// against h_min. With a full ring the plane is fitted. With a partial ring only
-  /// hazard evidence is possible: ground that is a plane no steeper than max_slope lies
-  /// at most min_k(z_k) + R tan(max_slope) under the centre, so h above that bound is a
-  /// step for sure.
+  /// against h_min. With a full ring of exact samples the plane is fitted. Otherwise
+  /// only hazard evidence is possible, from the known samples: ground that is a plane no
+  /// steeper than max_slope lies at most min_k(z_k) + R tan(max_slope) under the centre,
+  /// and across planar ground its height is the mean of two opposite samples (the lowest
+  /// pair: one may land on the obstacle itself), so h above either bound is a step.
   void step_test(double h_m, double var_h_m2, const RingSample (&s)[kSamples], double h_min_m,
                  double tan_max_slope, Evidence& ev) const;
 

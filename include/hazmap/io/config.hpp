@@ -41,6 +41,12 @@ struct StereoConfig {
   /// SPEC 3.3: points farther than this below the body's wheel plane (z_B = 0) are
   /// mismatches and are dropped (counted); <= 0 disables the check.
   double max_below_ground_m = 0.5;
+  /// Unsupported disparities (support_check.hpp): a pixel much nearer than most of what
+  /// lies within support_rows below it in its column floats and is dropped (counted);
+  /// 0 disables the check. Farther: disparity < d (1 - support_tolerance) - margin.
+  int support_rows = 0;
+  double support_tolerance = 0.25;
+  double support_margin_px = 1.0;
 };
 
 struct SensorConfig {

@@ -32,6 +32,8 @@ struct FrameReport {
   size_t updates = 0;      ///< point-into-layer updates
   /// Points dropped as below ground (SPEC 3.3), not in `points`.
   size_t points_below_ground = 0;
+  /// Disparities removed as unsupported (floating mismatches), before points.
+  size_t disparities_unsupported = 0;
   /// Points the SPEC 4 gates dropped, summed over layers (a point counts once per layer
   /// that dropped it); per layer in Pipeline::layer_gates().
   GateCounts gated;

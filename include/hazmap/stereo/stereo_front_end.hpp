@@ -15,6 +15,7 @@
 #include "hazmap/stereo/disparity.hpp"
 #include "hazmap/stereo/grey_pair.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
+#include "hazmap/stereo/support_check.hpp"
 
 namespace hazmap {
 
@@ -46,6 +47,8 @@ class StereoFrontEnd {
   const PointCloud& cloud() const { return cloud_; }              ///< world frame
   /// Points of the last pair dropped as below ground (SPEC 3.3), not in cloud().
   std::size_t points_below_ground() const { return below_ground_; }
+  /// Disparities of the last pair removed as unsupported (support_check.hpp).
+  std::size_t disparities_unsupported() const { return unsupported_; }
   /// Rectified left pixel of each point of cloud().
   const std::vector<cv::Point>& pixels() const { return pixels_; }
   /// Significant bits the last pair was scaled from (8 for 8-bit input).
@@ -59,12 +62,14 @@ class StereoFrontEnd {
   GreyPairConverter grey_;
   Rectifier rectifier_;
   DisparityMatcher matcher_;
+  SupportCheck support_;
   PointCloudBuilder builder_;
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
   PointCloud cloud_;
   std::vector<cv::Point> pixels_;
   int input_bits_ = 8;
   std::size_t below_ground_ = 0;
+  std::size_t unsupported_ = 0;
   bool keep_pixels_ = true;
 };
 
