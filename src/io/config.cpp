@@ -65,6 +65,11 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("z_min", s.z_min_m);
   m.get("z_max", s.z_max_m);
   m.get("max_below_ground", s.max_below_ground_m);
+  m.get("search", s.search);
+  one_of(m, "search", s.search, {"full", "ground_band"});
+  m.get("band_max_slope_deg", s.band_max_slope_deg);
+  m.get("band_max_height", s.band_max_height_m);
+  m.get("band_max_depth", s.band_max_depth_m);
   m.finish();
 }
 
@@ -289,6 +294,12 @@ void validate(const Config& c) {
     invalid("hazard.fused_extent", "must be in [0, 1e4) m (0: the largest layer's extent)");
   if (!std::isfinite(c.stereo.max_below_ground_m))
     invalid("stereo.max_below_ground", "must be finite (<= 0 disables the check)");
+  if (!(s.band_max_slope_deg >= 0 && s.band_max_slope_deg < 90))
+    invalid("stereo.band_max_slope_deg", "must be in [0, 90)");
+  if (!(s.band_max_height_m >= 0 && std::isfinite(s.band_max_height_m)))
+    invalid("stereo.band_max_height", "must be finite and >= 0");
+  if (!(s.band_max_depth_m >= 0 && std::isfinite(s.band_max_depth_m)))
+    invalid("stereo.band_max_depth", "must be finite and >= 0");
   if (c.output.every_n < 1) invalid("output.every_n", "must be >= 1");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
@@ -321,7 +332,11 @@ std::string to_yaml(const Config& c) {
       << s.roi_px[1] << s.roi_px[2] << s.roi_px[3] << YAML::EndSeq
       << YAML::Key << "z_min" << YAML::Value << s.z_min_m
       << YAML::Key << "z_max" << YAML::Value << s.z_max_m
-      << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m << YAML::EndMap;
+      << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m
+      << YAML::Key << "search" << YAML::Value << s.search
+      << YAML::Key << "band_max_slope_deg" << YAML::Value << s.band_max_slope_deg
+      << YAML::Key << "band_max_height" << YAML::Value << s.band_max_height_m
+      << YAML::Key << "band_max_depth" << YAML::Value << s.band_max_depth_m << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::BeginMap
       << YAML::Key << "model" << YAML::Value << c.sensor.model
       << YAML::Key << "pointing_error_px" << YAML::Value << c.sensor.pointing_error_px
