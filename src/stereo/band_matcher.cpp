@@ -104,6 +104,18 @@ std::vector<BandStrip> plan_band_strips(const std::vector<DisparityInterval>& ro
   return out;
 }
 
+std::string describe_strips(const std::vector<BandStrip>& strips) {
+  std::string s = std::to_string(strips.size()) + " strips:";
+  for (std::size_t i = 0; i < strips.size(); ++i) {
+    const BandStrip& b = strips[i];
+    s += (i ? ", rows " : " rows ") + std::to_string(b.row0) + "-" + std::to_string(b.row1);
+    s += b.num_disparities == 0 ? " none"
+                                : " d [" + std::to_string(b.min_disparity) + ", " +
+                                      std::to_string(b.min_disparity + b.num_disparities) + ")";
+  }
+  return s;
+}
+
 BandMatcher::BandMatcher(const StereoConfig& config, const GroundBand& band, cv::Size image_size)
     : config_(config), size_(image_size) {
   check(image_size.width > 0 && image_size.height > 0, "ground band: empty image size");

@@ -31,6 +31,7 @@
 // allocates nothing beyond what the OpenCV matchers allocate on their first call.
 // Not thread-safe: one BandMatcher per thread.
 
+#include <string>
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
@@ -61,6 +62,9 @@ std::vector<BandStrip> plan_band_strips(const std::vector<DisparityInterval>& ro
 
 /// The search range a strip with this interval hull gets (num_disparities 0 if empty).
 BandStrip band_range(const DisparityInterval& hull, int min_disparity, int cap_disparity);
+
+/// One line for logs: "7 strips: rows 0-67 d [0, 32), rows 67-168 d [0, 64), ...".
+std::string describe_strips(const std::vector<BandStrip>& strips);
 
 class BandMatcher {
  public:
