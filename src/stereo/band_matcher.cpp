@@ -63,7 +63,8 @@ std::vector<BandStrip> plan_band_strips(const std::vector<DisparityInterval>& ro
     return s;
   };
   // best[j]: least work for rows [0, j); from[j]: where its last strip starts.
-  std::vector<double> best(static_cast<std::size_t>(n) + 1, std::numeric_limits<double>::infinity());
+  std::vector<double> best(static_cast<std::size_t>(n) + 1,
+                           std::numeric_limits<double>::infinity());
   std::vector<int> from(static_cast<std::size_t>(n) + 1, 0);
   best[0] = 0.0;
   for (int j = 1; j <= n; ++j) {
@@ -93,7 +94,8 @@ std::vector<BandStrip> plan_band_strips(const std::vector<DisparityInterval>& ro
   for (const BandStrip& s : strips) {
     const double work = strip_work(s, n, margin_rows);
     const int height = s.row1 - s.row0;
-    const int parts = target > 0 ? std::min(height, static_cast<int>(std::ceil(work / target - 1e-9))) : 1;
+    const int parts =
+        target > 0 ? std::min(height, static_cast<int>(std::ceil(work / target - 1e-9))) : 1;
     if (parts <= 1) {
       out.push_back(s);
       continue;

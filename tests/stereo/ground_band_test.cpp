@@ -86,7 +86,8 @@ TEST(GroundBand, IntervalsMatchBruteForceMarchingAlongTheRays) {
   const Eigen::Vector3d c = T_B_C.translation();
   auto inside = [&](const Eigen::Vector3d& p) {
     const double rho = std::hypot(p.x() - c.x(), p.y() - c.y());
-    return p.z() <= env.max_height_m + tan_slope * rho && p.z() >= -env.max_depth_m - tan_slope * rho;
+    return p.z() <= env.max_height_m + tan_slope * rho &&
+           p.z() >= -env.max_depth_m - tan_slope * rho;
   };
   constexpr double kZMin = 1e-3, kZMax = 1e3;
   constexpr int kSteps = 40000;
@@ -94,8 +95,8 @@ TEST(GroundBand, IntervalsMatchBruteForceMarchingAlongTheRays) {
   int bounded = 0, unbounded = 0, empty = 0;
   for (int v = 0; v < size.height; v += 17) {
     for (int u = 0; u < size.width; u += 29) {
-      const Eigen::Vector3d r = T_B_C.linear() *
-                                Eigen::Vector3d((u - g.cx_px) / g.focal_px, (v - g.cy_px) / g.focal_px, 1);
+      const Eigen::Vector3d r = T_B_C.linear() * Eigen::Vector3d((u - g.cx_px) / g.focal_px,
+                                                                 (v - g.cy_px) / g.focal_px, 1);
       double z_first = 0, z_last = 0;
       bool any = false;
       for (double z = kZMin; z <= kZMax; z *= ratio) {
@@ -173,7 +174,8 @@ TEST(GroundBand, HorizonAndCapOnTheCadreMount) {
   const sim::StereoRig rig = sim::make_cadre_rig(0.4);
   const StereoGeometry g = geometry_of(rig);
   const GroundBand band(g, rig.T_B_CL, TerrainEnvelope(), 272.0);
-  const std::vector<DisparityInterval> rows = band.rows({rig.camera.width_px, rig.camera.height_px});
+  const std::vector<DisparityInterval> rows =
+      band.rows({rig.camera.width_px, rig.camera.height_px});
   // The top edge looks 10 deg above the horizon: row 0 sees only far terrain and near
   // obstacles.
   EXPECT_EQ(rows.front().lo, 0.0);
@@ -201,8 +203,9 @@ TEST(GroundBand, RejectsUnusableGeometry) {
   steep.max_slope_deg = 90.0;
   EXPECT_THROW(GroundBand(g, Pose3d::Identity(), steep, 100.0), Error);
   EXPECT_THROW(GroundBand(g, Pose3d::Identity(), TerrainEnvelope(), 0.0), Error);
-  EXPECT_THROW(GroundBand(StereoGeometry{300.0, 0.0, 0, 0}, Pose3d::Identity(), TerrainEnvelope(), 64.0),
-               Error);
+  EXPECT_THROW(
+      GroundBand(StereoGeometry{300.0, 0.0, 0, 0}, Pose3d::Identity(), TerrainEnvelope(), 64.0),
+      Error);
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ class BandMatcher {
   struct Strip {
     int in0 = 0, in1 = 0;  ///< input rows matched: the strip's rows plus margins
     cv::Ptr<cv::StereoMatcher> matcher;
-    cv::Mat out;           ///< matcher output, (in1 - in0) x width
+    cv::Mat out;  ///< matcher output, (in1 - in0) x width
   };
   void run_strip(std::size_t i, const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity);
 

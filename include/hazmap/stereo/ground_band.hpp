@@ -54,8 +54,8 @@ class GroundBand {
   /// `geometry`: the rectified pair; `T_B_Cr`: the rectified left camera in the body
   /// frame; `max_disparity_px`: the cap on every interval (> 0). Throws Error for a
   /// non-positive focal length, baseline or cap, or a slope outside [0, 90).
-  GroundBand(const StereoGeometry& geometry, const Pose3d& T_B_Cr,
-             const TerrainEnvelope& envelope, double max_disparity_px);
+  GroundBand(const StereoGeometry& geometry, const Pose3d& T_B_Cr, const TerrainEnvelope& envelope,
+             double max_disparity_px);
 
   /// Disparities of terrain on the ray through pixel (u, v), hi capped at
   /// max_disparity(). Empty when the ray meets no terrain of the envelope (e.g. steeply
