@@ -13,6 +13,7 @@
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/ply.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/stereo/band_matcher.hpp"
 #include "hazmap/stereo/disparity_image.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
@@ -77,9 +78,12 @@ int cmd_stereo(int argc, char** argv) {
   spdlog::info("hazmap {} stereo: config {}, sequence {}, out {}, {} frames", HAZMAP_VERSION,
                config_path.string(), sequence_dir.string(), out_dir.string(), frames.size());
   spdlog::info("rectified: f {:.2f} px, B {:.4f} m, c ({:.1f}, {:.1f}) px, points from x {} y {} "
-               "w {} h {}; matcher {}, {} disparities",
+               "w {} h {}; matcher {}, search {}, {} disparities",
                g.focal_px, g.baseline_m, g.cx_px, g.cy_px, region.x, region.y, region.width,
-               region.height, config.stereo.matcher, config.stereo.num_disparities);
+               region.height, config.stereo.matcher, config.stereo.search,
+               config.stereo.num_disparities);
+  if (const hazmap::BandMatcher* band = front_end.matcher().band())
+    spdlog::info("ground band: {}", hazmap::describe_strips(band->strips()));
   log_to_file_only("configuration in use:\n" + hazmap::to_yaml(config));
 
   std::string per_frame;

@@ -68,6 +68,11 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("support_rows", s.support_rows);
   m.get("support_tolerance", s.support_tolerance);
   m.get("support_margin_px", s.support_margin_px);
+  m.get("search", s.search);
+  one_of(m, "search", s.search, {"full", "ground_band"});
+  m.get("band_max_slope_deg", s.band_max_slope_deg);
+  m.get("band_max_height", s.band_max_height_m);
+  m.get("band_max_depth", s.band_max_depth_m);
   m.finish();
 }
 
@@ -298,6 +303,12 @@ void validate(const Config& c) {
     invalid("stereo.support_tolerance", "must be in [0, 1)");
   if (!(c.stereo.support_margin_px >= 0 && c.stereo.support_margin_px < 1e4))
     invalid("stereo.support_margin_px", "must be in [0, 1e4) pixels");
+  if (!(s.band_max_slope_deg >= 0 && s.band_max_slope_deg < 90))
+    invalid("stereo.band_max_slope_deg", "must be in [0, 90)");
+  if (!(s.band_max_height_m >= 0 && std::isfinite(s.band_max_height_m)))
+    invalid("stereo.band_max_height", "must be finite and >= 0");
+  if (!(s.band_max_depth_m >= 0 && std::isfinite(s.band_max_depth_m)))
+    invalid("stereo.band_max_depth", "must be finite and >= 0");
   if (c.output.every_n < 1) invalid("output.every_n", "must be >= 1");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
@@ -333,7 +344,11 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m
       << YAML::Key << "support_rows" << YAML::Value << s.support_rows
       << YAML::Key << "support_tolerance" << YAML::Value << s.support_tolerance
-      << YAML::Key << "support_margin_px" << YAML::Value << s.support_margin_px << YAML::EndMap;
+      << YAML::Key << "support_margin_px" << YAML::Value << s.support_margin_px
+      << YAML::Key << "search" << YAML::Value << s.search
+      << YAML::Key << "band_max_slope_deg" << YAML::Value << s.band_max_slope_deg
+      << YAML::Key << "band_max_height" << YAML::Value << s.band_max_height_m
+      << YAML::Key << "band_max_depth" << YAML::Value << s.band_max_depth_m << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::BeginMap
       << YAML::Key << "model" << YAML::Value << c.sensor.model
       << YAML::Key << "pointing_error_px" << YAML::Value << c.sensor.pointing_error_px

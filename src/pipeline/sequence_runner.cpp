@@ -10,6 +10,7 @@
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/output_writer.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/stereo/band_matcher.hpp"
 #include "json_writer.hpp"
 
 namespace hazmap {
@@ -153,6 +154,8 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
   const StereoGeometry& g = pipeline.rectifier().geometry();
   spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
                g.baseline_m, g.cx_px, g.cy_px);
+  if (const BandMatcher* band = pipeline.matcher().band())
+    spdlog::info("ground band: {}", describe_strips(band->strips()));
 
   RunResult result;
   std::vector<FrameRecord> records;

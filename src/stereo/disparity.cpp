@@ -1,14 +1,20 @@
 #include "hazmap/stereo/disparity.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "hazmap/core/error.hpp"
+#include "hazmap/stereo/band_matcher.hpp"
+#include "hazmap/stereo/ground_band.hpp"
 
 namespace hazmap {
 
-DisparityMatcher::DisparityMatcher(const StereoConfig& c)
-    : min_disparity_(c.min_disparity), num_disparities_(c.num_disparities) {
+cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& c, int min_disparity,
+                                                 int num_disparities, bool speckle_filter) {
+  const int speckle_window = speckle_filter ? c.speckle_window : 0;
   if (c.matcher == "bm") {
-    auto bm = cv::StereoBM::create(c.num_disparities, c.block_size);
-    bm->setMinDisparity(c.min_disparity);
+    auto bm = cv::StereoBM::create(num_disparities, c.block_size);
+    bm->setMinDisparity(min_disparity);
     bm->setUniquenessRatio(c.uniqueness_ratio);
     bm->setTextureThreshold(c.texture_threshold);
     if (c.pre_filter_type == "normalized_response")
@@ -19,12 +25,13 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c)
       throw Error("config: key 'stereo.pre_filter_type': unknown type '" + c.pre_filter_type + "'");
     bm->setPreFilterSize(c.pre_filter_size);
     bm->setPreFilterCap(c.pre_filter_cap);
-    bm->setSpeckleWindowSize(c.speckle_window);
+    bm->setSpeckleWindowSize(speckle_window);
     // StereoBM compares fixed-point values in its speckle filter, SGBM scales itself.
     bm->setSpeckleRange(16 * c.speckle_range);
     bm->setDisp12MaxDiff(c.disp12_max_diff);
-    matcher_ = bm;
-  } else if (c.matcher == "sgbm") {
+    return bm;
+  }
+  if (c.matcher == "sgbm") {
     const int area = c.block_size * c.block_size;
     int mode = 0;
     if (c.sgbm_mode == "sgbm") mode = cv::StereoSGBM::MODE_SGBM;
@@ -32,22 +39,66 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c)
     else if (c.sgbm_mode == "sgbm_3way") mode = cv::StereoSGBM::MODE_SGBM_3WAY;
     else if (c.sgbm_mode == "hh4") mode = cv::StereoSGBM::MODE_HH4;
     else throw Error("config: key 'stereo.sgbm_mode': unknown mode '" + c.sgbm_mode + "'");
-    matcher_ = cv::StereoSGBM::create(c.min_disparity, c.num_disparities, c.block_size,
-                                      c.sgbm_p1 > 0 ? c.sgbm_p1 : 8 * area,
-                                      c.sgbm_p2 > 0 ? c.sgbm_p2 : 32 * area, c.disp12_max_diff,
-                                      c.pre_filter_cap, c.uniqueness_ratio, c.speckle_window,
-                                      c.speckle_range, mode);
-  } else {
-    throw Error("config: key 'stereo.matcher': unknown matcher '" + c.matcher + "'");
+    return cv::StereoSGBM::create(min_disparity, num_disparities, c.block_size,
+                                  c.sgbm_p1 > 0 ? c.sgbm_p1 : 8 * area,
+                                  c.sgbm_p2 > 0 ? c.sgbm_p2 : 32 * area, c.disp12_max_diff,
+                                  c.pre_filter_cap, c.uniqueness_ratio, speckle_window,
+                                  c.speckle_range, mode);
   }
+  throw Error("config: key 'stereo.matcher': unknown matcher '" + c.matcher + "'");
 }
+
+int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometry, int width) {
+  constexpr int kQuantum = 16;
+  const double nearest = geometry.focal_px * geometry.baseline_m / config.z_min_m + 2;
+  const int physical = kQuantum * static_cast<int>(std::ceil(nearest / kQuantum));
+  const int image = kQuantum * ((width - config.block_size + 1) / kQuantum);
+  return std::min(physical, image);
+}
+
+DisparityMatcher::DisparityMatcher(const StereoConfig& c)
+    : matcher_(create_stereo_matcher(c, c.min_disparity, c.num_disparities, true)),
+      min_disparity_(c.min_disparity),
+      searched_min_(c.min_disparity),
+      searched_num_(c.num_disparities) {
+  if (c.search != "full")
+    throw Error("config: key 'stereo.search': '" + c.search +
+                "' needs the camera geometry; this matcher only does a full search");
+}
+
+DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& geometry,
+                                   const Pose3d& T_B_Cr, cv::Size image_size)
+    : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
+      searched_num_(c.num_disparities) {
+  if (c.search == "full") {
+    matcher_ = create_stereo_matcher(c, c.min_disparity, c.num_disparities, true);
+    return;
+  }
+  if (c.search != "ground_band")
+    throw Error("config: key 'stereo.search': unknown search '" + c.search + "'");
+  const int cap = band_disparity_cap(c, geometry, image_size.width);
+  if (cap <= c.min_disparity)
+    throw Error("config: key 'stereo.search': ground_band leaves no disparity to search "
+                "(image too narrow or stereo.min_disparity too large)");
+  const GroundBand band(geometry, T_B_Cr, TerrainEnvelope::from(c), cap);
+  band_ = std::make_unique<BandMatcher>(c, band, image_size);
+  searched_min_ = band_->min_searched();
+  searched_num_ = std::max(16, band_->end_searched() - band_->min_searched());
+}
+
+DisparityMatcher::~DisparityMatcher() = default;
+DisparityMatcher::DisparityMatcher(DisparityMatcher&&) noexcept = default;
+DisparityMatcher& DisparityMatcher::operator=(DisparityMatcher&&) noexcept = default;
 
 void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1)
     throw Error("disparity: expected 8-bit grey rectified images");
   if (left.size() != right.size())
     throw Error("disparity: left and right images differ in size");
-  matcher_->compute(left, right, disparity_x16);
+  if (band_)
+    band_->compute(left, right, disparity_x16);
+  else
+    matcher_->compute(left, right, disparity_x16);
 }
 
 }  // namespace hazmap

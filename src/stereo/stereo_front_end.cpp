@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "hazmap/stereo/ground_band.hpp"
+
 namespace hazmap {
 namespace {
 
@@ -17,7 +19,9 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
                                const StereoCalibration& calibration, bool keep_pixels)
     : grey_(stereo.input_bits),
       rectifier_(calibration, stereo.rectify_alpha),
-      matcher_(stereo),
+      matcher_(stereo, rectifier_.geometry(),
+               rectified_camera_in_body(calibration.T_B_C, rectifier_.R1()),
+               rectifier_.image_size()),
       support_(stereo.support_rows, stereo.support_tolerance, stereo.support_margin_px),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),

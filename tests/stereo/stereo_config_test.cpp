@@ -72,5 +72,41 @@ TEST(StereoConfig, BadValuesNameTheKey) {
             "config: key 'stereo.roi': x, y, width and height must be >= 0");
 }
 
+// SPEC 3.4: the ground-band keys parse, round-trip through the resolved config, and bad
+// values name their key.
+TEST(StereoConfig, GroundBandKeys) {
+  const Config defaults = parse_config(kLayers, "s.yaml");
+  EXPECT_EQ(defaults.stereo.search, "full");
+  EXPECT_EQ(defaults.stereo.band_max_slope_deg, 30.0);
+  EXPECT_EQ(defaults.stereo.band_max_height_m, 0.5);
+  EXPECT_EQ(defaults.stereo.band_max_depth_m, 0.5);
+  const Config c = parse_config(std::string(kLayers) +
+                                    "stereo: {search: ground_band, band_max_slope_deg: 12.5, "
+                                    "band_max_height: 0.04, band_max_depth: 0.2}\n",
+                                "s.yaml");
+  EXPECT_EQ(c.stereo.search, "ground_band");
+  const Config again = parse_config(to_yaml(c), "dump");
+  EXPECT_EQ(again.stereo.search, "ground_band");
+  EXPECT_EQ(again.stereo.band_max_slope_deg, 12.5);
+  EXPECT_EQ(again.stereo.band_max_height_m, 0.04);
+  EXPECT_EQ(again.stereo.band_max_depth_m, 0.2);
+  const Config set = parse_config(kLayers, "s.yaml", {"stereo.search=ground_band"});
+  EXPECT_EQ(set.stereo.search, "ground_band");
+
+  EXPECT_NE(error_of("stereo: {search: band}\n")
+                .find("key 'stereo.search': 'band' is not one of full | ground_band"),
+            std::string::npos);
+  EXPECT_EQ(error_of("stereo: {band_max_slope_deg: 90}\n"),
+            "config: key 'stereo.band_max_slope_deg': must be in [0, 90)");
+  EXPECT_EQ(error_of("stereo: {band_max_height: -0.1}\n"),
+            "config: key 'stereo.band_max_height': must be finite and >= 0");
+  EXPECT_EQ(error_of("stereo: {band_max_depth: -1}\n"),
+            "config: key 'stereo.band_max_depth': must be finite and >= 0");
+  // The full-search-only matcher refuses the band rather than silently searching fully.
+  StereoConfig band;
+  band.search = "ground_band";
+  EXPECT_THROW(DisparityMatcher{band}, Error);
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -47,6 +47,13 @@ struct StereoConfig {
   int support_rows = 0;
   double support_tolerance = 0.25;
   double support_margin_px = 1.0;
+  /// SPEC 3.4: `full` searches [min_disparity, min_disparity + num_disparities) in every
+  /// row; `ground_band` searches per horizontal strip only the disparities terrain can
+  /// produce there (ground_band.hpp), whatever num_disparities says.
+  std::string search = "full";
+  double band_max_slope_deg = 30.0;  ///< ground_band: wheel plane tilted up to this [deg]
+  double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
+  double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
 };
 
 struct SensorConfig {

@@ -79,6 +79,7 @@ class Pipeline {
   const PointCloud& cloud() const { return front_.cloud(); }
   const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
   const Rectifier& rectifier() const { return front_.rectifier(); }
+  const DisparityMatcher& matcher() const { return front_.matcher(); }
 
  private:
   void analyse_hazards();

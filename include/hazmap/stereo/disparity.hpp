@@ -8,17 +8,47 @@
 // x 16; values <= 16 * min_disparity are invalid (SPEC 3.2).
 // Matching runs on OpenCV's thread pool (cv::setNumThreads): StereoBM splits the image
 // in stripes, SGBM in its sgbm_3way and hh4 modes; sgbm and hh are single-threaded.
+// `stereo.search: ground_band` (SPEC 3.4) matches horizontal strips over the disparities
+// terrain can produce there instead (band_matcher.hpp), strips in parallel.
+
+#include <memory>
 
 #include <opencv2/calib3d.hpp>
 
+#include "hazmap/core/types.hpp"
 #include "hazmap/io/config.hpp"
+#include "hazmap/stereo/sensor_model.hpp"
 
 namespace hazmap {
 
+class BandMatcher;
+
+/// A cv::StereoBM or cv::StereoSGBM with every knob of `config` except the range, which
+/// is [min_disparity, min_disparity + num_disparities); `speckle_filter` false leaves the
+/// speckle filter off. Throws Error naming the key for an unknown matcher, mode or
+/// pre-filter type.
+cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& config, int min_disparity,
+                                                 int num_disparities, bool speckle_filter);
+
+/// The largest disparity ground-band matching searches (exclusive end, a multiple of 16):
+/// f B / stereo.z_min, since nearer points are dropped anyway (SPEC 3.3), plus the two
+/// disparities of the sub-pixel margin, rounded up to 16; and at most what leaves a
+/// column to match in an image `width` wide (width - block_size + 1, rounded down).
+int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometry, int width);
+
 class DisparityMatcher {
  public:
-  /// Throws Error naming the key for an unknown matcher, mode or pre-filter type.
+  /// Full search only. Throws Error naming the key for an unknown matcher, mode or
+  /// pre-filter type, or for `search: ground_band` (it needs the camera's pose).
   explicit DisparityMatcher(const StereoConfig& config);
+
+  /// Either search. `geometry`: the rectified pair; `T_B_Cr`: the rectified left camera
+  /// in the body frame (rectified_camera_in_body); `image_size`: the rectified images'.
+  DisparityMatcher(const StereoConfig& config, const StereoGeometry& geometry,
+                   const Pose3d& T_B_Cr, cv::Size image_size);
+  ~DisparityMatcher();
+  DisparityMatcher(DisparityMatcher&&) noexcept;
+  DisparityMatcher& operator=(DisparityMatcher&&) noexcept;
 
   /// Rectified 8-bit grey images in, fixed-point disparity out (buffer reused).
   /// Throws Error for other image types or sizes that differ.
@@ -26,13 +56,19 @@ class DisparityMatcher {
 
   /// Smallest valid fixed-point value (exclusive): d16 > invalid_below() is valid.
   int invalid_below() const { return 16 * min_disparity_; }
-  int min_disparity() const { return min_disparity_; }
-  int num_disparities() const { return num_disparities_; }
+  /// The range searched: stereo.min_disparity / num_disparities for a full search, the
+  /// span of all strips' ranges for ground_band.
+  int min_disparity() const { return searched_min_; }
+  int num_disparities() const { return searched_num_; }
+  /// The strip matcher of `search: ground_band`, nullptr for a full search.
+  const BandMatcher* band() const { return band_.get(); }
 
  private:
   cv::Ptr<cv::StereoMatcher> matcher_;
+  std::unique_ptr<BandMatcher> band_;
   int min_disparity_ = 0;
-  int num_disparities_ = 0;
+  int searched_min_ = 0;
+  int searched_num_ = 0;
 };
 
 }  // namespace hazmap
