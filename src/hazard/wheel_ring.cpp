@@ -59,24 +59,20 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
   ev.evidence(h_m - (lowest + radius_ * tan_max_slope), std::sqrt(var_h_m2 + lowest_var),
               h_min_m, kernel_k_sigma(ev.k(), known));
   // Opposite samples: across planar ground their mean is the height under the centre
-  // with no slope allowance, as the full ring's mean is. A cell standing h_min above the
-  // line between one such pair is a bump on that cross-section (a pair may also land on
-  // the obstacle itself, so the lowest pair is the one to compare); k counts the pairs.
+  // with no slope allowance, as the full ring's mean is; the mean over the available
+  // pairs uses every direction that was seen (one pair alone would read the curvature
+  // of a crest along it as a step).
   int pairs = 0;
-  double ground = std::numeric_limits<double>::infinity(), ground_var = 0;
+  double pair_sum = 0, pair_var = 0;
   for (int k = 0; k < kSamples / 2; ++k) {
     const RingSample &a = s[k], &b = s[k + kSamples / 2];
     if (!a.known || !b.known) continue;
     ++pairs;
-    const double mean = 0.5 * (a.z_m + b.z_m);
-    if (mean < ground) {
-      ground = mean;
-      ground_var = 0.25 * (a.var_m2 + b.var_m2);
-    }
+    pair_sum += 0.5 * (a.z_m + b.z_m);
+    pair_var += 0.25 * (a.var_m2 + b.var_m2);
   }
   if (pairs > 0)
-    ev.evidence(h_m - ground, std::sqrt(var_h_m2 + ground_var), h_min_m,
-                kernel_k_sigma(ev.k(), pairs));
+    ev.evidence(h_m - pair_sum / pairs, std::sqrt(var_h_m2 + pair_var / (pairs * pairs)), h_min_m);
 }
 
 }  // namespace hazmap

@@ -65,6 +65,8 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("z_min", s.z_min_m);
   m.get("z_max", s.z_max_m);
   m.get("max_below_ground", s.max_below_ground_m);
+  m.get("below_ground_tolerance", s.below_ground_tolerance_m);
+  m.get("max_depression_slope_deg", s.max_depression_slope_deg);
   m.get("support_rows", s.support_rows);
   m.get("support_tolerance", s.support_tolerance);
   m.get("support_margin_px", s.support_margin_px);
@@ -297,6 +299,10 @@ void validate(const Config& c) {
     invalid("hazard.fused_extent", "must be in [0, 1e4) m (0: the largest layer's extent)");
   if (!std::isfinite(c.stereo.max_below_ground_m))
     invalid("stereo.max_below_ground", "must be finite (<= 0 disables the check)");
+  if (!(c.stereo.below_ground_tolerance_m >= 0 && c.stereo.below_ground_tolerance_m < 1e3))
+    invalid("stereo.below_ground_tolerance", "must be in [0, 1000) m");
+  if (!(c.stereo.max_depression_slope_deg > 0 && c.stereo.max_depression_slope_deg <= 90))
+    invalid("stereo.max_depression_slope_deg", "must be in (0, 90] deg (90: off)");
   if (c.stereo.support_rows < 0 || c.stereo.support_rows > 100000)
     invalid("stereo.support_rows", "must be in [0, 100000] pixels (0: off)");
   if (!(c.stereo.support_tolerance >= 0 && c.stereo.support_tolerance < 1))
@@ -342,6 +348,8 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "z_min" << YAML::Value << s.z_min_m
       << YAML::Key << "z_max" << YAML::Value << s.z_max_m
       << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m
+      << YAML::Key << "below_ground_tolerance" << YAML::Value << s.below_ground_tolerance_m
+      << YAML::Key << "max_depression_slope_deg" << YAML::Value << s.max_depression_slope_deg
       << YAML::Key << "support_rows" << YAML::Value << s.support_rows
       << YAML::Key << "support_tolerance" << YAML::Value << s.support_tolerance
       << YAML::Key << "support_margin_px" << YAML::Value << s.support_margin_px

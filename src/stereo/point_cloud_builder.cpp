@@ -1,6 +1,7 @@
 #include "hazmap/stereo/point_cloud_builder.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hazmap {
 
@@ -65,6 +66,10 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
   const bool check_ground = stereo_.max_below_ground_m > 0;
   const Eigen::RowVector3d up_B = T_B_Cr_.linear().row(2);
   const double ground_z = -stereo_.max_below_ground_m - T_B_Cr_.translation().z();
+  // Steep rays: below -tolerance a point needs a depression wall steeper than the ray.
+  const bool check_depression = check_ground && stereo_.max_depression_slope_deg < 90.0;
+  const double tolerance_z = -stereo_.below_ground_tolerance_m - T_B_Cr_.translation().z();
+  const double tan_wall = std::tan(stereo_.max_depression_slope_deg * M_PI / 180.0);
   std::size_t below_ground = 0;
   for (int v = roi.y; v < roi.y + roi.height; v += step) {
     const int16_t* row = disparity_x16.ptr<int16_t>(v);
@@ -75,7 +80,13 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
       if (d < d_min || d > d_max) continue;
       if (check_right && (u - d < right_u_min || u - d > right_u_max)) continue;
       const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d);
-      if (check_ground && up_B.dot(p_C) < ground_z) {
+      const double drop = up_B.dot(p_C);  // camera -> point, along body z
+      if (check_ground && drop < ground_z) {
+        ++below_ground;
+        continue;
+      }
+      if (check_depression && drop < tolerance_z &&
+          drop * drop > tan_wall * tan_wall * (p_C.squaredNorm() - drop * drop)) {
         ++below_ground;
         continue;
       }

@@ -264,12 +264,13 @@ TEST(AnalyticHazards, FlatRockTopWiderThanTheKernelIsAHazardOnEveryLayerThatVouc
 }
 
 TEST(AnalyticHazards, RockTopIsAHazardWhenTheGroundAroundIsOnlyPartlySeen) {
-  // The 6 cm block again, but the ground around it is seen in 1.2 cm strips only (every
-  // 4 cm cell's points cover a third of it: no ground cell of the 4 cm layer is
-  // evaluable), as next to a real rock. The ring's samples on those cells are evidence
-  // (mu_z with its honest variance), so the top is a hazard; they never prove anything.
+  // A 6 cm block with an 18 cm top (the wheel ring, radius 15 cm, lies on the ground
+  // around it), but the ground is seen in 1.2 cm strips only (every 4 cm cell's points
+  // cover a third of it: no ground cell of the 4 cm layer is evaluable), as next to a
+  // real rock. The ring's samples on those cells are evidence (mu_z with its honest
+  // variance), so the top is a hazard; they never prove anything.
   const Config config = analytic_config({{RuleKind::ccm, 0.04}});
-  const double xc = 0.3, yc = 0.1, half = 0.12;
+  const double xc = 0.3, yc = 0.1, half = 0.09;
   const auto on_top = [&](double x, double y) {
     return std::abs(x - xc) < half && std::abs(y - yc) < half;
   };

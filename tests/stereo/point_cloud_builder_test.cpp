@@ -2,6 +2,7 @@
 // (valid disparity, stride grid, valid rectified regions of both cameras, stereo.roi,
 // depth gate) and the exact point and covariance each one gives.
 
+#include <cmath>
 #include <set>
 #include <utility>
 
@@ -120,6 +121,7 @@ TEST(PointCloudBuilder, DropsAndCountsPointsFarBelowTheWheelPlane) {
   stereo.z_min_m = 0.01;
   stereo.z_max_m = 100;
   stereo.max_below_ground_m = 0.5;
+  stereo.max_depression_slope_deg = 90.0;  // this test: the depth limit alone
   SensorConfig sensor;
   Pose3d T_B_C = Pose3d::Identity();
   T_B_C.linear() = rotation_from_rpy(-M_PI / 2 - 0.4, 0.0, -M_PI / 2);  // forward, 23 deg down
@@ -156,6 +158,55 @@ TEST(PointCloudBuilder, DropsAndCountsPointsFarBelowTheWheelPlane) {
   const PointCloudBuilder open(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
   EXPECT_EQ(open.build(d, 0, T_W_B, cloud), 0u);
   EXPECT_EQ(cloud.size(), expected_kept + expected_dropped);
+}
+
+// Ours: below the tolerance, a point seen along a ray descending steeper than
+// max_depression_slope_deg is dropped too (it could only be seen down a steeper wall).
+// Each pixel's z_B and descent angle computed here from the body-frame camera centre
+// and point.
+TEST(PointCloudBuilder, DropsPointsBelowTheToleranceAlongSteepRays) {
+  StereoConfig stereo;
+  stereo.z_min_m = 0.01;
+  stereo.z_max_m = 100;
+  stereo.max_below_ground_m = 0.5;
+  stereo.below_ground_tolerance_m = 0.05;
+  stereo.max_depression_slope_deg = 45.0;
+  SensorConfig sensor;
+  Pose3d T_B_C = Pose3d::Identity();
+  T_B_C.linear() = rotation_from_rpy(-M_PI / 2 - 0.6, 0.0, -M_PI / 2);  // 34 deg down
+  T_B_C.translation() = Eigen::Vector3d(0.0, 0.02, 0.15);
+  Pose3d T_W_B = Pose3d::Identity();
+  T_W_B.linear() = rotation_from_rpy(0.05, -0.1, 0.3);
+  T_W_B.translation() = Eigen::Vector3d(1, -2, 0.2);
+  const Eigen::Matrix3d R1 = Eigen::Matrix3d::Identity();
+  // Disparities 2 ... 65 px by column: Z from 5 m to 0.15 m.
+  cv::Mat d(48, 64, CV_16S);
+  for (int v = 0; v < d.rows; ++v)
+    for (int u = 0; u < d.cols; ++u) d.at<int16_t>(v, u) = static_cast<int16_t>(32 + 16 * u);
+  std::size_t steep = 0, deep = 0, kept = 0;
+  const Eigen::Vector3d camera_B = T_B_C.translation();
+  for (int v = 0; v < d.rows; ++v)
+    for (int u = 0; u < d.cols; ++u) {
+      const Eigen::Vector3d p_B = T_B_C * triangulate(kGeometry, u, v, d.at<int16_t>(v, u) / 16.0);
+      const Eigen::Vector3d ray = p_B - camera_B;
+      const double descent_deg = std::atan2(-ray.z(), ray.head<2>().norm()) * 180.0 / M_PI;
+      ASSERT_GT(std::abs(descent_deg - 45.0), 1e-6);
+      ASSERT_GT(std::abs(p_B.z() + 0.05), 1e-9);
+      if (p_B.z() < -0.5) ++deep;
+      else if (p_B.z() < -0.05 && descent_deg > 45.0) ++steep;
+      else ++kept;
+    }
+  ASSERT_GT(steep, 100u);
+  ASSERT_GT(kept, 100u);
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+  PointCloud cloud;
+  EXPECT_EQ(builder.build(d, 0, T_W_B, cloud), steep + deep);
+  EXPECT_EQ(cloud.size(), kept);
+  // 90 deg turns the ray rule off (the depth limit stays).
+  stereo.max_depression_slope_deg = 90.0;
+  const PointCloudBuilder depth_only(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+  EXPECT_EQ(depth_only.build(d, 0, T_W_B, cloud), deep);
+  EXPECT_EQ(cloud.size(), kept + steep);
 }
 
 }  // namespace

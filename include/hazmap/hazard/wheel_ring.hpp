@@ -35,8 +35,8 @@ class WheelRing {
   /// against h_min. With a full ring of exact samples the plane is fitted. Otherwise
   /// only hazard evidence is possible, from the known samples: ground that is a plane no
   /// steeper than max_slope lies at most min_k(z_k) + R tan(max_slope) under the centre,
-  /// and across planar ground its height is the mean of two opposite samples (the lowest
-  /// pair: one may land on the obstacle itself), so h above either bound is a step.
+  /// and across planar ground its height is the mean of two opposite samples (averaged
+  /// over the pairs that are known), so h above either bound is a step.
   void step_test(double h_m, double var_h_m2, const RingSample (&s)[kSamples], double h_min_m,
                  double tan_max_slope, Evidence& ev) const;
 

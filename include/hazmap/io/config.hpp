@@ -41,6 +41,13 @@ struct StereoConfig {
   /// SPEC 3.3: points farther than this below the body's wheel plane (z_B = 0) are
   /// mismatches and are dropped (counted); <= 0 disables the check.
   double max_below_ground_m = 0.5;
+  /// Ours, with the check above: a point more than below_ground_tolerance below the wheel
+  /// plane seen along a ray that descends steeper than max_depression_slope_deg could only
+  /// be seen down a wall at least that steep right under the ray: a mismatch (ground or a
+  /// rock nearer than the search reaches). Dropped and counted with the above; the
+  /// slope >= 90 disables it, as does max_below_ground <= 0.
+  double below_ground_tolerance_m = 0.05;
+  double max_depression_slope_deg = 45.0;
   /// Unsupported disparities (support_check.hpp): a pixel much nearer than most of what
   /// lies within support_rows below it in its column floats and is dropped (counted);
   /// 0 disables the check. Farther: disparity < d (1 - support_tolerance) - margin.

@@ -7,7 +7,8 @@
 // the left camera's valid rectified region and the configured `stereo.roi`, its match
 // u - d lies in the right camera's valid region, z_min <= Z <= z_max, and it lies no
 // more than stereo.max_below_ground below the body's wheel plane z_B = 0 (SPEC 3.3: such
-// a point is a mismatch; these are counted).
+// a point is a mismatch; these are counted), nor more than below_ground_tolerance below
+// it along a ray descending steeper than max_depression_slope_deg (counted with them).
 // Thread safety: build() is const and may run concurrently on different clouds.
 
 #include <vector>
