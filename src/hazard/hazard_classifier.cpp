@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "hazmap/hazard/evidence.hpp"
 
@@ -85,29 +86,53 @@ PlaneClassifier::CellNoise PlaneClassifier::cell_noise(const LayerGrids& g, int 
   return c;
 }
 
-RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y_m) const {
+RingSample PlaneClassifier::plane_sample(const LayerGrids& g, int row, int col, double x_m,
+                                         double y_m) const {
   RingSample s;
-  int row = 0, col = 0;
-  if (!g.height.cell_at(x_m, y_m, &row, &col) || std::isnan(g.height.at(row, col))) return s;
-  const CellNoise noise = cell_noise(g, row, col);
-  if (g.evaluable.at(row, col) != 1.0f) {
-    // Evidence only: the cell's published mu_z, whose variance covers the tilt it may
-    // hide (SPEC 6.4), plus its points' sensor variance (a few points' spread says little).
-    s.z_m = g.height.at(row, col);
-    s.var_m2 = g.variance.at(row, col) + noise.sensor;
-    s.known = std::isfinite(s.var_m2);
-    return s;
-  }
   const double dx = x_m - g.height.x_of_col(col), dy = y_m - g.height.y_of_row(row);
   s.z_m = g.height.at(row, col) + g.slope_x.at(row, col) * dx + g.slope_y.at(row, col) * dy;
   // Least-squares prediction variance res_var / n (1 + d^T C^-1 d), d from the cell centre
   // (an evaluable cell's points spread over it, so their mean is near the centre).
+  const CellNoise noise = cell_noise(g, row, col);
   const double cxx = g.lateral_xx.at(row, col), cyy = g.lateral_yy.at(row, col),
                cxy = g.lateral_xy.at(row, col);
   const double det = cxx * cyy - cxy * cxy;
   const double lever = det > 0 ? (cyy * dx * dx - 2 * cxy * dx * dy + cxx * dy * dy) / det : 0.0;
   s.var_m2 = noise.res_var / std::max(noise.n_eff, 1.0) * (1.0 + lever);
-  s.known = s.exact = std::isfinite(s.z_m);
+  s.known = s.exact = std::isfinite(s.z_m) && std::isfinite(s.var_m2);
+  return s;
+}
+
+RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y_m) const {
+  int row = 0, col = 0;
+  if (!g.height.cell_at(x_m, y_m, &row, &col)) return RingSample{};
+  if (g.evaluable.at(row, col) == 1.0f) return plane_sample(g, row, col, x_m, y_m);
+  // The holding cell is not evaluable: the plane of the nearest evaluable neighbour,
+  // extrapolated to the point (its variance grows with the lever), still a measurement.
+  const DenseGrid& h = g.height;
+  int best_row = -1, best_col = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int r = row + dr, c = col + dc;
+      if ((dr == 0 && dc == 0) || r < 0 || c < 0 || r >= h.rows || c >= h.cols ||
+          g.evaluable.at(r, c) != 1.0f)
+        continue;
+      const double d2 = std::pow(h.x_of_col(c) - x_m, 2) + std::pow(h.y_of_row(r) - y_m, 2);
+      if (d2 < best) {
+        best = d2;
+        best_row = r;
+        best_col = c;
+      }
+    }
+  if (best_row >= 0) return plane_sample(g, best_row, best_col, x_m, y_m);
+  RingSample s;
+  if (std::isnan(h.at(row, col))) return s;
+  // Evidence only: the cell's published mu_z, whose variance covers the tilt it may
+  // hide (SPEC 6.4), plus its points' sensor variance (a few points' spread says little).
+  s.z_m = h.at(row, col);
+  s.var_m2 = g.variance.at(row, col) + cell_noise(g, row, col).sensor;
+  s.known = std::isfinite(s.var_m2);
   return s;
 }
 

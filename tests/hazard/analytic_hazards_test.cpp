@@ -9,6 +9,7 @@
 #include <random>
 
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 
 namespace hazmap {
@@ -297,6 +298,44 @@ TEST(AnalyticHazards, RockTopIsAHazardWhenTheGroundAroundIsOnlyPartlySeen) {
       EXPECT_EQ(h.at(r, c), float(HazardClass::unknown)) << x << " " << y;
     }
   EXPECT_GT(ground_cells, 1000);
+}
+
+TEST(AnalyticHazards, RingSampleOnACellThatIsNotEvaluableComesFromItsNeighboursPlane) {
+  // A tilted plane on the 4 cm layer; the cell [0.12, 0.16) x [0.04, 0.08) is seen in one
+  // corner only (not evaluable): a sample at its centre is its evaluable neighbour's
+  // plane extrapolated there (exact, within noise of the truth, with a larger variance
+  // than the neighbour's own centre). Where no neighbour is evaluable the cell's mu_z is
+  // evidence only.
+  const Config config = analytic_config({{RuleKind::ccm, 0.04}});
+  const auto plane = [](double x, double y) { return 0.1 * x + 0.05 * y; };
+  const auto in_cell = [](double x, double y, double x0, double y0) {
+    return x >= x0 && x < x0 + 0.04 && y >= y0 && y < y0 + 0.04;
+  };
+  const Visible visible = [&](double x, double y) {
+    if (in_cell(x, y, 0.12, 0.04)) return x < 0.13 && y < 0.05;  // a corner
+    // An island: one corner-seen cell with nothing around it.
+    if (x >= 0.56 && x < 0.72 && y >= 0.48 && y < 0.64) return x < 0.61 && x >= 0.60 && y < 0.53 && y >= 0.52;
+    return true;
+  };
+  const auto views = map_surface(config, plane, 1.0, 0.002, 0.0005, 5, visible);
+  const LayerGrids& g = views[0].map;
+  const PlaneClassifier classifier(resolve_hazard_params(config).layers[0]);
+  int row = 0, col = 0;
+  ASSERT_TRUE(g.height.cell_at(0.14, 0.06, &row, &col));
+  ASSERT_EQ(g.evaluable.at(row, col), 0.0f);
+  ASSERT_FALSE(std::isnan(g.height.at(row, col)));
+  const RingSample s = classifier.surface_at(g, 0.14, 0.06);
+  EXPECT_TRUE(s.known && s.exact);
+  EXPECT_NEAR(s.z_m, plane(0.14, 0.06), 0.001);
+  const RingSample own = classifier.surface_at(g, 0.10, 0.06);  // the neighbour's centre
+  EXPECT_TRUE(own.exact);
+  EXPECT_GT(s.var_m2, own.var_m2);
+  ASSERT_TRUE(g.height.cell_at(0.62, 0.54, &row, &col));
+  ASSERT_EQ(g.evaluable.at(row, col), 0.0f);
+  const RingSample island = classifier.surface_at(g, 0.62, 0.54);
+  EXPECT_TRUE(island.known);
+  EXPECT_FALSE(island.exact);
+  EXPECT_EQ(island.z_m, g.height.at(row, col));
 }
 
 }  // namespace

@@ -56,9 +56,11 @@ class PlaneClassifier final : public HazardClassifier {
   using HazardClassifier::HazardClassifier;
   void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
 
-  /// Sub-cell height of the plane surface at W point (x, y) and its variance (exact); on a
-  /// known cell that is not evaluable its mu_z with the published and sensor variance
-  /// (known, not exact: evidence only); unknown outside the grid or on an empty cell.
+  /// Sub-cell height of the plane surface at W point (x, y) and its variance (exact): the
+  /// holding cell's plane, or if that cell is not evaluable the plane of its nearest
+  /// evaluable neighbour extrapolated to the point; failing both, on a known cell its
+  /// mu_z with the published and sensor variance (known, not exact: evidence only);
+  /// unknown outside the grid or on an empty cell.
   RingSample surface_at(const LayerGrids& grids, double x_m, double y_m) const;
 
  private:
@@ -68,6 +70,8 @@ class PlaneClassifier final : public HazardClassifier {
     double rho, sensor, res_var, n_eff;
   };
   CellNoise cell_noise(const LayerGrids& g, int row, int col) const;
+  /// The evaluable cell (row, col)'s plane at (x, y) with its prediction variance.
+  RingSample plane_sample(const LayerGrids& g, int row, int col, double x_m, double y_m) const;
 };
 
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);
