@@ -43,7 +43,12 @@ void DistanceTransform::compute(const unsigned char* is_source, int rows, int co
   const size_t cells = static_cast<size_t>(rows) * cols;
   column_.resize(cells);
   squared.resize(cells);
-  for (size_t i = 0; i < cells; ++i) squared[i] = is_source[i] ? 0.0f : kNoSourceSquared;
+  size_t sources = 0;
+  for (size_t i = 0; i < cells; ++i) {
+    squared[i] = is_source[i] ? 0.0f : kNoSourceSquared;
+    sources += is_source[i] != 0;
+  }
+  if (sources == 0) return;  // what the passes would give: no source anywhere
   // Columns first (stride cols), then rows.
   for (int c = 0; c < cols; ++c) pass(&squared[c], rows, cols, &column_[c], cols);
   for (int r = 0; r < rows; ++r)
