@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "hazmap/core/error.hpp"
@@ -115,32 +116,52 @@ void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const Dirt
         dh2 > capped_d2 ? cap : static_cast<float>(std::min(cap_m, std::sqrt(dh2) * r));
   }
 
-  // Unknown cells within the radius: on each rectangle grown by the radius (plus one
-  // cell for rounding), which holds every cell within the radius of the rectangle. A
-  // farther unknown cell gives a distance beyond the radius in either case.
-  const int grow = static_cast<int>(std::ceil(radius_cells)) + 1;
+  // Unknown cells within the radius. Only "within or not" matters, so no distance
+  // transform: an unknown cell (dr, dc) away is within it iff dr^2 + dc^2 <= radius^2, i.e.
+  // |dr| <= reach_[|dc|]. Per rectangle grown by the radius (a farther unknown cell is
+  // beyond it), the rows to the nearest unknown cell in each column (two sweeps, capped
+  // at radius + 1), then per cell a scan over the column offsets.
+  int reach = 0;
+  while (double(reach + 1) * (reach + 1) <= radius2) ++reach;
+  reach_.resize(static_cast<size_t>(reach) + 1);
+  for (int dc = 0; dc <= reach; ++dc) {
+    int dr = 0;
+    while (double(dr + 1) * (dr + 1) + double(dc) * dc <= radius2) ++dr;
+    reach_[static_cast<size_t>(dc)] = dr;
+  }
+  const int none = reach + 1;
   for (const GridRect& rect : region) {
     const GridRect cut = rect.clipped(rows, cols);
     if (cut.empty()) continue;
-    const GridRect sub = cut.dilated(grow).clipped(rows, cols);
+    const GridRect sub = cut.dilated(reach).clipped(rows, cols);
     const int sub_cols = sub.col1 - sub.col0;
-    unknown_src_.resize(static_cast<size_t>(sub.area()));
-    for (int row = sub.row0; row < sub.row1; ++row)
-      for (int col = sub.col0; col < sub.col1; ++col)
-        unknown_src_[static_cast<size_t>(row - sub.row0) * sub_cols + (col - sub.col0)] =
-            fused.at(row, col) == unknown;
-    edt_.compute(unknown_src_.data(), sub.row1 - sub.row0, sub_cols, unknown_d2_);
+    near_unknown_.resize(static_cast<size_t>(sub.area()));
+    for (int row = sub.row0; row < sub.row1; ++row) {
+      int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
+      const int* above = row > sub.row0 ? line - sub_cols : nullptr;
+      for (int k = 0; k < sub_cols; ++k)
+        line[k] = fused.at(row, sub.col0 + k) == unknown ? 0 : above ? std::min(none, above[k] + 1) : none;
+    }
+    for (int row = sub.row1 - 2; row >= sub.row0; --row) {
+      int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
+      const int* below = line + sub_cols;
+      for (int k = 0; k < sub_cols; ++k) line[k] = std::min(line[k], below[k] + 1);
+    }
     for (int row = cut.row0; row < cut.row1; ++row) {
       // Beyond the edge nothing is known: the nearest outside cell centre is this far.
       const int edge_row = std::min(row, rows - 1 - row) + 1;
+      const int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
       for (int col = cut.col0; col < cut.col1; ++col) {
         const size_t i = static_cast<size_t>(row) * cols + col;
         const int edge = std::min({edge_row, col + 1, cols - col});
+        bool unknown_near = false;
+        const int lo = std::max(sub.col0, col - reach), hi = std::min(sub.col1 - 1, col + reach);
+        for (int c = lo; c <= hi && !unknown_near; ++c)
+          unknown_near = line[c - sub.col0] <= reach_[static_cast<size_t>(std::abs(c - col))];
         const double dh2 = hazard_d2_[i];
-        const double du2 = unknown_d2_[static_cast<size_t>(row - sub.row0) * sub_cols + (col - sub.col0)];
         HazardClass k = HazardClass::traversable;
         if (dh2 <= radius2) k = HazardClass::hazard;
-        else if (du2 <= radius2 || double(edge) * edge <= radius2) k = HazardClass::unknown;
+        else if (unknown_near || double(edge) * edge <= radius2) k = HazardClass::unknown;
         footprint.values[i] = static_cast<float>(k);
       }
     }

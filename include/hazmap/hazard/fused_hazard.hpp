@@ -44,9 +44,8 @@ class HazardFusion {
                  DenseGrid& hazard_distance);
   /// The footprint of the cells of `region` only (SPEC 8.6; `footprint` must have the
   /// fused map's geometry and keeps its other cells) and the hazard distance of every
-  /// cell: an incremental distance transform would not be simple, and one pass over the
-  /// map is a small part of the frame. The unknown-cell distance, which only matters
-  /// within the radius, is computed on each rectangle grown by the radius.
+  /// cell: an incremental distance transform would not be simple. Whether an unknown
+  /// cell lies within the radius is found on each rectangle grown by the radius.
   void footprint(const DenseGrid& fused, double radius_m, const DirtyRegion& region,
                  DenseGrid& footprint, DenseGrid& hazard_distance);
 
@@ -55,8 +54,10 @@ class HazardFusion {
   /// Fused column/row lookups of `layers` for `fused`'s geometry.
   void map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused);
 
-  std::vector<unsigned char> hazard_src_, unknown_src_;
-  std::vector<float> hazard_d2_, unknown_d2_;
+  std::vector<unsigned char> hazard_src_;
+  std::vector<float> hazard_d2_;
+  std::vector<int> near_unknown_;  ///< rows to the nearest unknown cell in the column
+  std::vector<int> reach_;         ///< reach_[dc]: largest dr with dr^2 + dc^2 <= radius^2
   DistanceTransform edt_;
 };
 
