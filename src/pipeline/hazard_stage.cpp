@@ -164,8 +164,11 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   // The fused map reads this layer where its hazard changed, and no longer reads it on
   // the strips that left its window. Outside the window and unknown read alike, so the
   // strips that entered matter only where their hazard is not unknown: a change.
-  const auto scale =
-      static_cast<CellIndex>(std::llround(g.resolution_m() / map.layer(0).grid().resolution_m()));
+  // Each of the layer's cells covers scale x scale fused cells (config validation makes
+  // resolutions whole multiples; otherwise the fused map is redone whole).
+  const double ratio = g.resolution_m() / map.layer(0).grid().resolution_m();
+  const auto scale = static_cast<CellIndex>(std::llround(ratio));
+  if (scale < 1 || std::abs(ratio - double(scale)) > 1e-6) return false;
   const GridRect changed = changed_bounds(v.hazard, before_, s.classified);
   fused_region_.add(image_rect(global_range(changed, window.x0, window.y0, n), scale, fused_x0,
                                fused_y0, cells)
