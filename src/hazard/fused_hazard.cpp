@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "hazmap/core/error.hpp"
@@ -16,11 +17,17 @@ int fused_cells(double extent_m, double resolution_m) {
 void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_height_m,
                         int cells, double resolution_m, double center_x_m, double center_y_m,
                         DenseGrid& fused, DenseGrid& clearance) {
-  check(!layers.empty(), "fuse: no layers");
   const float nan = std::numeric_limits<float>::quiet_NaN();
   fused.reset(cells, cells, resolution_m, center_x_m, center_y_m,
               static_cast<float>(HazardClass::unknown));
   clearance.reset(cells, cells, resolution_m, center_x_m, center_y_m, nan);
+  DirtyRegion all;
+  all.add(GridRect::full(cells, cells));
+  fuse(layers, critical_height_m, all, fused, clearance);
+}
+
+void HazardFusion::map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused) {
+  const int cells = fused.rows;
   const size_t n = static_cast<size_t>(cells);
   cols_.assign(n * layers.size(), -1);
   rows_.assign(n * layers.size(), -1);
@@ -33,24 +40,39 @@ void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_
       if (g.cell_at(g.center_x_m, fused.y_of_row(k), &row, &col)) rows_[l * n + k] = row;
     }
   }
+}
+
+void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_height_m,
+                        const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance) {
+  check(!layers.empty(), "fuse: no layers");
+  check(fused.rows == fused.cols, "fuse: the fused grid must be square");
+  map_layers(layers, fused);
+  const size_t n = static_cast<size_t>(fused.rows);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
   const auto hazard = static_cast<float>(HazardClass::hazard);
   const auto traversable = static_cast<float>(HazardClass::traversable);
-  for (int row = 0; row < cells; ++row) {
-    for (int col = 0; col < cells; ++col) {
-      bool is_hazard = false;
-      double smallest = std::numeric_limits<double>::infinity();
-      for (size_t l = 0; l < layers.size(); ++l) {
-        const int lr = rows_[l * n + row], lc = cols_[l * n + col];
-        if (lr < 0 || lc < 0) continue;
-        const float v = layers[l].hazard->at(lr, lc);
-        if (v == hazard) is_hazard = true;
-        else if (v == traversable) smallest = std::min(smallest, layers[l].h_min_m);
-      }
-      if (is_hazard) {
-        fused.at(row, col) = hazard;
-      } else if (std::isfinite(smallest)) {
-        clearance.at(row, col) = static_cast<float>(smallest);
-        if (smallest <= critical_height_m) fused.at(row, col) = traversable;
+  const auto unknown = static_cast<float>(HazardClass::unknown);
+  for (const GridRect& rect : region) {
+    const GridRect cut = rect.clipped(fused.rows, fused.cols);
+    for (int row = cut.row0; row < cut.row1; ++row) {
+      for (int col = cut.col0; col < cut.col1; ++col) {
+        bool is_hazard = false;
+        double smallest = std::numeric_limits<double>::infinity();
+        for (size_t l = 0; l < layers.size(); ++l) {
+          const int lr = rows_[l * n + row], lc = cols_[l * n + col];
+          if (lr < 0 || lc < 0) continue;
+          const float v = layers[l].hazard->at(lr, lc);
+          if (v == hazard) is_hazard = true;
+          else if (v == traversable) smallest = std::min(smallest, layers[l].h_min_m);
+        }
+        fused.at(row, col) = unknown;
+        clearance.at(row, col) = nan;
+        if (is_hazard) {
+          fused.at(row, col) = hazard;
+        } else if (std::isfinite(smallest)) {
+          clearance.at(row, col) = static_cast<float>(smallest);
+          if (smallest <= critical_height_m) fused.at(row, col) = traversable;
+        }
       }
     }
   }
@@ -62,32 +84,86 @@ void HazardFusion::footprint(const DenseGrid& fused, double radius_m, DenseGrid&
   const double r = fused.resolution_m;
   footprint.reset(rows, cols, r, fused.center_x_m, fused.center_y_m,
                   static_cast<float>(HazardClass::unknown));
+  DirtyRegion all;
+  all.add(GridRect::full(rows, cols));
+  this->footprint(fused, radius_m, all, footprint, hazard_distance);
+}
+
+void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const DirtyRegion& region,
+                             DenseGrid& footprint, DenseGrid& hazard_distance) {
+  const int rows = fused.rows, cols = fused.cols;
+  const double r = fused.resolution_m;
+  footprint.center_x_m = fused.center_x_m;
+  footprint.center_y_m = fused.center_y_m;
   hazard_distance.reset(rows, cols, r, fused.center_x_m, fused.center_y_m, 0.0f);
   const size_t cells = fused.values.size();
+  const auto hazard = static_cast<float>(HazardClass::hazard);
+  const auto unknown = static_cast<float>(HazardClass::unknown);
   hazard_src_.resize(cells);
-  unknown_src_.resize(cells);
-  for (size_t i = 0; i < cells; ++i) {
-    const auto k = static_cast<HazardClass>(static_cast<int>(fused.values[i]));
-    hazard_src_[i] = k == HazardClass::hazard;
-    unknown_src_[i] = k == HazardClass::unknown;
-  }
+  for (size_t i = 0; i < cells; ++i) hazard_src_[i] = fused.values[i] == hazard;
   edt_.compute(hazard_src_.data(), rows, cols, hazard_d2_);
-  edt_.compute(unknown_src_.data(), rows, cols, unknown_d2_);
   const double radius_cells = radius_m / r;
   const double radius2 = radius_cells * radius_cells * (1.0 + 1e-9);
   const double cap_m = 0.5 * std::min(rows, cols) * r;
-  for (int row = 0; row < rows; ++row) {
-    // Beyond the edge nothing is known: the nearest outside cell centre is this far.
-    const int edge_row = std::min(row, rows - 1 - row) + 1;
-    for (int col = 0; col < cols; ++col) {
-      const size_t i = static_cast<size_t>(row) * cols + col;
-      const int edge = std::min({edge_row, col + 1, cols - col});
-      const double dh2 = hazard_d2_[i];
-      hazard_distance.values[i] = static_cast<float>(std::min(cap_m, std::sqrt(dh2) * r));
-      HazardClass k = HazardClass::traversable;
-      if (dh2 <= radius2) k = HazardClass::hazard;
-      else if (unknown_d2_[i] <= radius2 || double(edge) * edge <= radius2) k = HazardClass::unknown;
-      footprint.values[i] = static_cast<float>(k);
+  // Squared cell distances beyond this are capped for sure (the margin dwarfs rounding):
+  // no square root for them.
+  const double cap_cells = 0.5 * std::min(rows, cols);
+  const double capped_d2 = cap_cells * cap_cells * (1.0 + 1e-6) + 1.0;
+  const auto cap = static_cast<float>(cap_m);
+  for (size_t i = 0; i < cells; ++i) {
+    const double dh2 = hazard_d2_[i];
+    hazard_distance.values[i] =
+        dh2 > capped_d2 ? cap : static_cast<float>(std::min(cap_m, std::sqrt(dh2) * r));
+  }
+
+  // Unknown cells within the radius. Only "within or not" matters, so no distance
+  // transform: an unknown cell (dr, dc) away is within it iff dr^2 + dc^2 <= radius^2, i.e.
+  // |dr| <= reach_[|dc|]. Per rectangle grown by the radius (a farther unknown cell is
+  // beyond it), the rows to the nearest unknown cell in each column (two sweeps, capped
+  // at radius + 1), then per cell a scan over the column offsets.
+  int reach = 0;
+  while (double(reach + 1) * (reach + 1) <= radius2) ++reach;
+  reach_.resize(static_cast<size_t>(reach) + 1);
+  for (int dc = 0; dc <= reach; ++dc) {
+    int dr = 0;
+    while (double(dr + 1) * (dr + 1) + double(dc) * dc <= radius2) ++dr;
+    reach_[static_cast<size_t>(dc)] = dr;
+  }
+  const int none = reach + 1;
+  for (const GridRect& rect : region) {
+    const GridRect cut = rect.clipped(rows, cols);
+    if (cut.empty()) continue;
+    const GridRect sub = cut.dilated(reach).clipped(rows, cols);
+    const int sub_cols = sub.col1 - sub.col0;
+    near_unknown_.resize(static_cast<size_t>(sub.area()));
+    for (int row = sub.row0; row < sub.row1; ++row) {
+      int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
+      const int* above = row > sub.row0 ? line - sub_cols : nullptr;
+      for (int k = 0; k < sub_cols; ++k)
+        line[k] = fused.at(row, sub.col0 + k) == unknown ? 0 : above ? std::min(none, above[k] + 1) : none;
+    }
+    for (int row = sub.row1 - 2; row >= sub.row0; --row) {
+      int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
+      const int* below = line + sub_cols;
+      for (int k = 0; k < sub_cols; ++k) line[k] = std::min(line[k], below[k] + 1);
+    }
+    for (int row = cut.row0; row < cut.row1; ++row) {
+      // Beyond the edge nothing is known: the nearest outside cell centre is this far.
+      const int edge_row = std::min(row, rows - 1 - row) + 1;
+      const int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
+      for (int col = cut.col0; col < cut.col1; ++col) {
+        const size_t i = static_cast<size_t>(row) * cols + col;
+        const int edge = std::min({edge_row, col + 1, cols - col});
+        bool unknown_near = false;
+        const int lo = std::max(sub.col0, col - reach), hi = std::min(sub.col1 - 1, col + reach);
+        for (int c = lo; c <= hi && !unknown_near; ++c)
+          unknown_near = line[c - sub.col0] <= reach_[static_cast<size_t>(std::abs(c - col))];
+        const double dh2 = hazard_d2_[i];
+        HazardClass k = HazardClass::traversable;
+        if (dh2 <= radius2) k = HazardClass::hazard;
+        else if (unknown_near || double(edge) * edge <= radius2) k = HazardClass::unknown;
+        footprint.values[i] = static_cast<float>(k);
+      }
     }
   }
 }

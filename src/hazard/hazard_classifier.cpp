@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "hazmap/hazard/evidence.hpp"
@@ -16,7 +17,24 @@ double noise_at(const DenseGrid& noise, int row, int col) {
   return std::isfinite(v) ? v : 0.0;
 }
 
+/// The cell offset (row, col) that holds wheel-ring sample k on a piecewise-constant
+/// layer: the sample point rounded to a cell centre.
+int ring_col_offset(const WheelRing& ring, int k, double resolution_m) {
+  return static_cast<int>(std::lround(ring.dx(k) / resolution_m));
+}
+int ring_row_offset(const WheelRing& ring, int k, double resolution_m) {
+  return -static_cast<int>(std::lround(ring.dy(k) / resolution_m));  // row 0 = max y
+}
+
 }  // namespace
+
+void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDiagnostics& diag) {
+  const DenseGrid& h = g.height;
+  hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
+               static_cast<float>(HazardClass::unknown));
+  reset_diagnostics(h, diag);
+  classify(g, GridRect::full(h.rows, h.cols), hazard, diag);
+}
 
 // ---- Piecewise-constant layers (SPEC 8.1, 8.3) ----
 
@@ -26,23 +44,41 @@ PiecewiseConstantClassifier::PiecewiseConstantClassifier(const LayerHazardParams
   for (int n = 0; n <= kernel_cells_; ++n) kernel_k_.push_back(kernel_k_sigma(params.k_sigma, n));
 }
 
-void PiecewiseConstantClassifier::classify(const LayerGrids& g, DenseGrid& hazard,
-                                           HazardDiagnostics& diag) {
+void PiecewiseConstantClassifier::reset_diagnostics(const DenseGrid& h,
+                                                   HazardDiagnostics& diag) const {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  diag.kernel_range.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
+  diag.kernel_sigma.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
+  diag.kernel_fill.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, 0.0f);
+}
+
+int PiecewiseConstantClassifier::reach_cells() const {
+  int reach = (params_.kernel - 1) / 2;
+  if (params_.ring_tests)
+    for (int k = 0; k < WheelRing::kSamples; ++k)
+      reach = std::max({reach, std::abs(ring_col_offset(ring_, k, params_.resolution_m)),
+                        std::abs(ring_row_offset(ring_, k, params_.resolution_m))});
+  return reach;
+}
+
+void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& region,
+                                           DenseGrid& hazard, HazardDiagnostics& diag) {
   const DenseGrid& h = g.height;
   const LayerHazardParams& p = params_;
-  filter_.compute(h, g.variance, p.kernel, diag.kernel_range, diag.kernel_sigma, diag.kernel_fill);
-  hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
-               static_cast<float>(HazardClass::unknown));
+  const GridRect cells = region.clipped(h.rows, h.cols);
+  filter_.compute(h, g.variance, p.kernel, cells, diag.kernel_range, diag.kernel_sigma,
+                  diag.kernel_fill);
   const double tan_slope = std::tan(p.max_slope_rad);
   const int kernel_cells = kernel_cells_;
   // Ring samples as cell offsets (the observed cell that holds each sample point).
   int ring_dr[WheelRing::kSamples], ring_dc[WheelRing::kSamples];
   for (int k = 0; k < WheelRing::kSamples; ++k) {
-    ring_dc[k] = static_cast<int>(std::lround(ring_.dx(k) / h.resolution_m));
-    ring_dr[k] = -static_cast<int>(std::lround(ring_.dy(k) / h.resolution_m));  // row 0 = max y
+    ring_dc[k] = ring_col_offset(ring_, k, h.resolution_m);
+    ring_dr[k] = ring_row_offset(ring_, k, h.resolution_m);
   }
-  for (int row = 0; row < h.rows; ++row)
-    for (int col = 0; col < h.cols; ++col) {
+  for (int row = cells.row0; row < cells.row1; ++row)
+    for (int col = cells.col0; col < cells.col1; ++col) {
+      hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
       const float range = diag.kernel_range.at(row, col);
       if (std::isnan(range)) continue;  // kernel off the layer or empty: unknown
       const float z = h.at(row, col);
@@ -136,14 +172,23 @@ RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y
   return s;
 }
 
-void PlaneClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDiagnostics&) {
+int PlaneClassifier::reach_cells() const {
+  // A ring sample reads the cell holding a point R from the centre, at most ceil(R / r)
+  // cells away, one more for rounding, and when that cell is not evaluable one of its
+  // neighbours (surface_at): one more.
+  if (!params_.ring_tests) return 0;
+  return static_cast<int>(std::ceil(ring_.radius() / params_.resolution_m)) + 2;
+}
+
+void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, DenseGrid& hazard,
+                               HazardDiagnostics&) {
   const DenseGrid& h = g.height;
   const LayerHazardParams& p = params_;
-  hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
-               static_cast<float>(HazardClass::unknown));
+  const GridRect cells = region.clipped(h.rows, h.cols);
   const double tan_slope = std::tan(p.max_slope_rad);
-  for (int row = 0; row < h.rows; ++row)
-    for (int col = 0; col < h.cols; ++col) {
+  for (int row = cells.row0; row < cells.row1; ++row)
+    for (int col = cells.col0; col < cells.col1; ++col) {
+      hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
       const float z = h.at(row, col);
       if (std::isnan(z) || double(g.count.at(row, col)) < p.min_points) continue;
       const bool evaluable = g.evaluable.at(row, col) == 1.0f;

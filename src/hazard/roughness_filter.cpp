@@ -48,6 +48,16 @@ std::vector<int> kernel_half_widths(int kernel) {
 
 void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
                               DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  roughness.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
+  sigma.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
+  fill.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, 0.0f);
+  compute(height, variance, kernel, GridRect::full(height.rows, height.cols), roughness, sigma, fill);
+}
+
+void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
+                              const GridRect& region, DenseGrid& roughness, DenseGrid& sigma,
+                              DenseGrid& fill) {
   if (kernel != kernel_) {  // allocation only when the kernel changes, not per frame
     widths_ = kernel_half_widths(kernel);
     kernel_ = kernel;
@@ -57,13 +67,22 @@ void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance
   const std::vector<int>& widths = widths_;
   const int half = (kernel - 1) / 2;
   const int rows = height.rows, cols = height.cols;
+  const GridRect out = region.clipped(rows, cols);
+  if (out.empty()) return;
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  roughness.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
-  sigma.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
-  fill.reset(rows, cols, height.resolution_m, height.center_x_m, height.center_y_m, 0.0f);
+  // Cells whose kernel leaves the grid, or holds no observed cell, keep these.
+  roughness.fill_rect(out.row0, out.row1, out.col0, out.col1, nan);
+  sigma.fill_rect(out.row0, out.row1, out.col0, out.col1, nan);
+  fill.fill_rect(out.row0, out.row1, out.col0, out.col1, 0.0f);
 
-  // Per distinct half-width w: sliding max/min/count of every row over [c - w, c + w].
+  // Per distinct half-width w: sliding max/min/count of the rows the region's kernels
+  // cover, over [c - w, c + w]. Each row is scanned over [col_lo, col_hi) only: a window
+  // cut to that holds the same cells as one cut to the row, because its ends lie a whole
+  // max_w beyond the region (or at the row's ends), so the extremes, the cell they come
+  // from and the counts are those of the whole-row scan.
   const int max_w = *std::max_element(widths.begin(), widths.end());
+  const int row_lo = std::max(0, out.row0 - half), row_hi = std::min(rows, out.row1 + half);
+  const int col_lo = std::max(0, out.col0 - max_w), col_hi = std::min(cols, out.col1 + max_w);
   const size_t plane = static_cast<size_t>(rows) * cols;
   row_max_.resize(plane * (max_w + 1));
   row_min_.resize(plane * (max_w + 1));
@@ -75,26 +94,27 @@ void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance
 
   for (int w = 0; w <= max_w; ++w) {
     if (!width_used_[static_cast<size_t>(w)]) continue;
-    for (int r = 0; r < rows; ++r) {
-      const float* in = &height.values[static_cast<size_t>(r) * cols];
-      const float* var = &variance.values[static_cast<size_t>(r) * cols];
-      const size_t off = plane * w + static_cast<size_t>(r) * cols;
-      sliding_extreme(in, var, cols, w, +1.0f, &row_max_[off], &row_max_var_[off], deque_);
-      sliding_extreme(in, var, cols, w, -1.0f, &row_min_[off], &row_min_var_[off], deque_);
+    for (int r = row_lo; r < row_hi; ++r) {
+      const float* in = &height.values[static_cast<size_t>(r) * cols + col_lo];
+      const float* var = &variance.values[static_cast<size_t>(r) * cols + col_lo];
+      const size_t off = plane * w + static_cast<size_t>(r) * cols + col_lo;
+      const int n = col_hi - col_lo;
+      sliding_extreme(in, var, n, w, +1.0f, &row_max_[off], &row_max_var_[off], deque_);
+      sliding_extreme(in, var, n, w, -1.0f, &row_min_[off], &row_min_var_[off], deque_);
       // Observed count by a running window sum.
       int count = 0;
-      for (int c = 0; c <= std::min(cols - 1, w); ++c) count += !std::isnan(in[c]);
-      for (int c = 0; c < cols; ++c) {
+      for (int c = 0; c <= std::min(n - 1, w); ++c) count += !std::isnan(in[c]);
+      for (int c = 0; c < n; ++c) {
         row_count_[off + c] = static_cast<float>(count);
         const int add = c + w + 1, drop = c - w;
-        if (add < cols) count += !std::isnan(in[add]);
+        if (add < n) count += !std::isnan(in[add]);
         if (drop >= 0) count -= !std::isnan(in[drop]);
       }
     }
   }
 
-  for (int r = half; r < rows - half; ++r) {
-    for (int c = half; c < cols - half; ++c) {
+  for (int r = std::max(half, out.row0); r < std::min(rows - half, out.row1); ++r) {
+    for (int c = std::max(half, out.col0); c < std::min(cols - half, out.col1); ++c) {
       float hi = -kInf, lo = kInf, count = 0, hi_var = 0, lo_var = 0;
       for (int k = 0; k < kernel; ++k) {
         const size_t idx = plane * widths[k] + static_cast<size_t>(r + k - half) * cols + c;

@@ -5,11 +5,12 @@
 
 namespace hazmap {
 
-WheelRing::WheelRing(double radius_m) : radius_(radius_m) {
+WheelRing::WheelRing(double radius_m, double k_sigma) : radius_(radius_m), k_sigma_(k_sigma) {
   for (int k = 0; k < kSamples; ++k) {
     dx_[k] = radius_m * std::cos(k * M_PI / 4.0);
     dy_[k] = radius_m * std::sin(k * M_PI / 4.0);
   }
+  for (int n = 0; n <= kSamples; ++n) lowest_k_[n] = kernel_k_sigma(k_sigma, n);
 }
 
 void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope,
@@ -57,7 +58,7 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
   if (known == 0) return;
   // The lowest of `known` noisy samples: its k counts them (kernel_k_sigma).
   ev.evidence(h_m - (lowest + radius_ * tan_max_slope), std::sqrt(var_h_m2 + lowest_var),
-              h_min_m, kernel_k_sigma(ev.k(), known));
+              h_min_m, ev.k() == k_sigma_ ? lowest_k_[known] : kernel_k_sigma(ev.k(), known));
   // Opposite samples: across planar ground their mean is the height under the centre
   // with no slope allowance, as the full ring's mean is; the mean over the available
   // pairs uses every direction that was seen (one pair alone would read the curvature

@@ -155,6 +155,7 @@ void parse_hazard(YamlMap m, HazardConfig& h) {
   m.get("critical_height", h.critical_height_m);
   m.get("footprint_radius", h.footprint_radius_m);
   m.get("fused_extent", h.fused_extent_m);
+  m.get("incremental", h.incremental);
   m.finish();
 }
 
@@ -405,6 +406,7 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "critical_height" << YAML::Value << c.hazard.critical_height_m
       << YAML::Key << "footprint_radius" << YAML::Value << c.hazard.footprint_radius_m
       << YAML::Key << "fused_extent" << YAML::Value << c.hazard.fused_extent_m
+      << YAML::Key << "incremental" << YAML::Value << c.hazard.incremental
       << YAML::EndMap;
   out << YAML::Key << "pose_uncertainty" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "enabled" << YAML::Value << c.pose_uncertainty.enabled << YAML::EndMap;

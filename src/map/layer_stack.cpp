@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/core/ticks.hpp"
@@ -77,6 +78,7 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
   started_ = true;
   robot_x_m_ = robot_x_m;
   robot_y_m_ = robot_y_m;
+  inserted_ = has_points_ = false;
   if (track_pose_) pose_.add_frame(frame_, noise);
   for (auto& layer : layers_) layer->begin_frame(robot_x_m, robot_y_m, frame_);
   if (pooling_)
@@ -121,6 +123,20 @@ std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vect
 }  // namespace
 
 std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
+  // The points' bounding box: which cells this insert may change (changed_cells). One
+  // vectorisable pass, far cheaper than telling each layer's merge loops to track it.
+  inserted_ = true;
+  has_points_ = points.size() > 0;
+  float lo_x = std::numeric_limits<float>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = hi_x;
+  points.for_each_chunk([&](const PointChunk& chunk) {
+    for (int k = 0; k < chunk.size; ++k) {
+      lo_x = std::min(lo_x, chunk.x[k]);
+      hi_x = std::max(hi_x, chunk.x[k]);
+      lo_y = std::min(lo_y, chunk.y[k]);
+      hi_y = std::max(hi_y, chunk.y[k]);
+    }
+  });
+  min_x_ = lo_x, max_x_ = hi_x, min_y_ = lo_y, max_y_ = hi_y;
   if (layer_ms == nullptr)
     return insert_layers(layers_, pools_, pooling_, points, [](std::size_t) {});
   using Clock = std::chrono::steady_clock;
@@ -140,6 +156,37 @@ std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
     layer_ms[i] = ticks > 0 ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
                             : 0.0;
   return updates;
+}
+
+CellRange LayerStack::changed_cells(std::size_t i) const {
+  const RollingGrid& g = layers_[i]->grid();
+  const CellRange window{g.origin_x(), g.origin_x() + g.size(), g.origin_y(), g.origin_y() + g.size()};
+  auto cut = [&](CellRange r) {
+    return CellRange{std::max(r.x0, window.x0), std::min(r.x1, window.x1),
+                     std::max(r.y0, window.y0), std::min(r.y1, window.y1)};
+  };
+  CellRange changed;  // empty
+  if (has_points_ && std::isfinite(min_x_ + max_x_ + min_y_ + max_y_)) {
+    const double r = g.resolution_m();
+    // One cell wider: the layers' own index arithmetic (chunk_slots) may round a point
+    // on a cell border the other way.
+    changed = cut({cell_index(min_x_, r) - 1, cell_index(max_x_, r) + 2, cell_index(min_y_, r) - 1,
+                   cell_index(max_y_, r) + 2});
+  }
+  if (pooling_ && i > 0 && inserted_) {
+    const RollingGrid& f = layers_[i - 1]->grid();
+    const auto ratio = static_cast<CellIndex>(std::llround(g.resolution_m() / f.resolution_m()));
+    auto down = [ratio](CellIndex a) {  // floor(a / ratio)
+      return a >= 0 ? a / ratio : -((-a + ratio - 1) / ratio);
+    };
+    const CellRange covered = cut({down(f.origin_x()), down(f.origin_x() + f.size() - 1) + 1,
+                                   down(f.origin_y()), down(f.origin_y() + f.size() - 1) + 1});
+    if (changed.empty()) changed = covered;
+    else if (!covered.empty())
+      changed = {std::min(changed.x0, covered.x0), std::max(changed.x1, covered.x1),
+                 std::min(changed.y0, covered.y0), std::max(changed.y1, covered.y1)};
+  }
+  return changed;
 }
 
 void LayerStack::export_layer(std::size_t i, LayerGrids& out) const {

@@ -20,14 +20,8 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       map_(config.map, config.rules, config.hazard, config.pose_uncertainty.enabled),
       weighting_(ccm_weighting(config.rules.ccm)),
       layer_map_ms_(config.map.layers.size(), 0.0),
-      hazard_params_(resolve_hazard_params(config)),
       layer_gates_(config.map.layers.size()),
-      views_(config.map.layers.size()) {
-  for (size_t i = 0; i < views_.size(); ++i) {
-    classifiers_.push_back(make_hazard_classifier(hazard_params_.layers[i]));
-    fusion_inputs_.push_back({&views_[i].hazard, hazard_params_.layers[i].h_min_m});
-  }
-}
+      hazards_(resolve_hazard_params(config), config.hazard.incremental) {}
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                               const PoseNoise& noise) {
@@ -53,25 +47,9 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   }
 
   t = Clock::now();
-  analyse_hazards();
+  hazards_.run(map_);
   report.ms.hazard_ms = ms_since(t);
   return report;
-}
-
-void Pipeline::analyse_hazards() {
-  for (size_t i = 0; i < map_.size(); ++i) {
-    LayerView& view = views_[i];
-    map_.export_layer(i, view.map);
-    classifiers_[i]->classify(view.map, view.hazard, view.diagnostics);
-  }
-  // The planner's maps are centred like the finest layer, which shares its cell borders.
-  const DenseGrid& finest = views_.front().hazard;
-  fusion_.fuse(fusion_inputs_, hazard_params_.critical_height_m,
-               fused_cells(hazard_params_.fused_extent_m, finest.resolution_m),
-               finest.resolution_m, finest.center_x_m, finest.center_y_m, planner_.fused,
-               planner_.clearance);
-  fusion_.footprint(planner_.fused, hazard_params_.footprint_radius_m, planner_.footprint,
-                    planner_.hazard_distance);
 }
 
 }  // namespace hazmap

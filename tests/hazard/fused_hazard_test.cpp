@@ -1,5 +1,6 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -105,6 +106,45 @@ TEST(Footprint, HazardWithinRadiusThenUnknownThenTraversableAndDistanceInMetres)
   EXPECT_NEAR(distance.at(14, 13), 0.05, 1e-6);
   EXPECT_NEAR(distance.at(10, 10), 0.0, 1e-9);
   EXPECT_NEAR(distance.at(39, 39), std::min(0.2, std::hypot(0.29, 0.29)), 1e-6);  // capped at half the side
+}
+
+TEST(Footprint, EqualsBruteForceOnRandomMapsAndOnARegion) {
+  std::mt19937 rng(11);
+  for (const double radius_m : {0.03, 0.05, 0.055, 0.15}) {
+    DenseGrid fused;
+    fused.reset(45, 38, 0.01, 0.3, -0.2, kT);
+    std::discrete_distribution<int> kind({0.9, 0.08, 0.02});  // traversable, unknown, hazard
+    for (float& v : fused.values) v = std::array<float, 3>{kT, kU, kH}[kind(rng)];
+    HazardFusion fusion;
+    DenseGrid footprint, distance;
+    fusion.footprint(fused, radius_m, footprint, distance);
+    const double rc = radius_m / 0.01, radius2 = rc * rc * (1.0 + 1e-9);
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col) {
+        bool hazard = false, unknown = false;
+        for (int r = 0; r < fused.rows; ++r)
+          for (int c = 0; c < fused.cols; ++c) {
+            if (double(r - row) * (r - row) + double(c - col) * (c - col) > radius2) continue;
+            hazard |= fused.at(r, c) == kH;
+            unknown |= fused.at(r, c) == kU;
+          }
+        const int edge = std::min({row + 1, fused.rows - row, col + 1, fused.cols - col});
+        unknown |= double(edge) * edge <= radius2;
+        const float want = hazard ? kH : unknown ? kU : kT;
+        ASSERT_EQ(footprint.at(row, col), want) << radius_m << " at " << row << "," << col;
+      }
+    // On a region: the same values there, the other cells untouched.
+    DenseGrid part = footprint;
+    std::fill(part.values.begin(), part.values.end(), -1.0f);
+    DirtyRegion region;
+    region.add({3, 11, 30, 38});
+    region.add({20, 45, 0, 9});
+    fusion.footprint(fused, radius_m, region, part, distance);
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col)
+        ASSERT_EQ(part.at(row, col), region.contains(row, col) ? footprint.at(row, col) : -1.0f)
+            << radius_m << " at " << row << "," << col;
+  }
 }
 
 }  // namespace

@@ -38,6 +38,7 @@ TEST(Config, DefaultsFillMissingSections) {
   EXPECT_EQ(c.stereo.num_disparities, 128);
   EXPECT_DOUBLE_EQ(c.sensor.disparity_error_px, 0.25);
   EXPECT_DOUBLE_EQ(c.hazard.max_slope_deg, 20.0);
+  EXPECT_TRUE(c.hazard.incremental);  // SPEC 8.6
 }
 
 TEST(Config, UnknownKeyIsNamedWithItsPathAndLine) {
@@ -98,10 +99,12 @@ TEST(Config, SetOfUnknownKeyOrBadIndexFails) {
 }
 
 TEST(Config, DumpReparsesToTheSameValues) {
-  const Config c = parse_config(kMinimal, "t", {"stereo.block_size=15", "hazard.wheelbase=0.4"});
+  const Config c = parse_config(kMinimal, "t",
+                                {"stereo.block_size=15", "hazard.wheelbase=0.4", "hazard.incremental=false"});
   const Config again = parse_config(to_yaml(c), "dump");
   EXPECT_EQ(again.stereo.block_size, 15);
   EXPECT_DOUBLE_EQ(again.hazard.wheelbase_m, 0.4);
+  EXPECT_FALSE(again.hazard.incremental);
   ASSERT_EQ(again.map.layers.size(), 2u);
   EXPECT_DOUBLE_EQ(again.map.layers[1].resolution_m, 0.04);
   EXPECT_EQ(to_yaml(again), to_yaml(c));

@@ -11,6 +11,7 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/pipeline/hazard_stage.hpp"
 
 namespace {
 std::atomic<long> g_news{0};
@@ -79,6 +80,8 @@ void run(const std::string& insertion, bool pose) {
   }
   HazardFusion fusion;
   DenseGrid fused, clearance, footprint, distance;
+  // The pipeline's hazard stage, whole and incremental (SPEC 8.6).
+  HazardStage whole(params, false), incremental(params, true);
   long after_first = 0;
   std::size_t consistency_gated = 0;
   for (int frame = 0; frame < 6; ++frame) {
@@ -95,6 +98,8 @@ void run(const std::string& insertion, bool pose) {
     fusion.fuse(inputs, params.critical_height_m, fused_cells(params.fused_extent_m, 0.04), 0.04,
                 hazards[0].center_x_m, hazards[0].center_y_m, fused, clearance);
     fusion.footprint(fused, params.footprint_radius_m, footprint, distance);
+    whole.run(stack);
+    incremental.run(stack);
   }
   EXPECT_EQ(g_news.load() - after_first, 0) << insertion << (pose ? " with pose uncertainty" : "");
   // The Kalman layer's consistency gate ran and dropped points (the terrain varies by

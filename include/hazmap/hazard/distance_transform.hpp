@@ -1,7 +1,8 @@
 #pragma once
-// Exact Euclidean distance transform on a grid (Felzenszwalb and Huttenlocher's lower
-// envelope of parabolas, one pass along rows and one along columns): O(cells), no
-// allocation once the buffers have grown.
+// Exact Euclidean distance transform on a grid: the distance to the nearest source along
+// each column (binary input: two sweeps), then Felzenszwalb and Huttenlocher's lower
+// envelope of parabolas along each row: O(cells), no allocation once the buffers have
+// grown.
 
 #include <vector>
 
@@ -16,6 +17,7 @@ class DistanceTransform {
  private:
   void pass(const float* f, int n, int stride_in, float* d, int stride_out);
   std::vector<float> column_;   ///< first pass result
+  std::vector<int> near_;       ///< first pass: cells to the nearest source in the column
   std::vector<float> line_, out_;
   std::vector<int> v_;
   std::vector<double> z_;  ///< parabola boundaries (double: q^2 reaches 1e6)

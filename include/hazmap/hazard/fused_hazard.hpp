@@ -15,6 +15,7 @@
 
 #include <vector>
 
+#include "hazmap/hazard/dirty_region.hpp"
 #include "hazmap/hazard/distance_transform.hpp"
 #include "hazmap/map/dense_grid.hpp"
 
@@ -33,15 +34,30 @@ class HazardFusion {
   void fuse(const std::vector<FusionInput>& layers, double critical_height_m, int cells,
             double resolution_m, double center_x_m, double center_y_m, DenseGrid& fused,
             DenseGrid& clearance);
+  /// Re-fuses the cells of `region` only (SPEC 8.6); `fused` and `clearance` must have
+  /// their geometry for this frame already and keep their other cells.
+  void fuse(const std::vector<FusionInput>& layers, double critical_height_m,
+            const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance);
 
   /// Footprint map and hazard distance from a fused map.
   void footprint(const DenseGrid& fused, double radius_m, DenseGrid& footprint,
                  DenseGrid& hazard_distance);
+  /// The footprint of the cells of `region` only (SPEC 8.6; `footprint` must have the
+  /// fused map's geometry and keeps its other cells) and the hazard distance of every
+  /// cell: an incremental distance transform would not be simple. Whether an unknown
+  /// cell lies within the radius is found on each rectangle grown by the radius.
+  void footprint(const DenseGrid& fused, double radius_m, const DirtyRegion& region,
+                 DenseGrid& footprint, DenseGrid& hazard_distance);
 
  private:
   std::vector<int> cols_, rows_;  ///< per layer: fused column/row -> layer column/row (-1 outside)
-  std::vector<unsigned char> hazard_src_, unknown_src_;
-  std::vector<float> hazard_d2_, unknown_d2_;
+  /// Fused column/row lookups of `layers` for `fused`'s geometry.
+  void map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused);
+
+  std::vector<unsigned char> hazard_src_;
+  std::vector<float> hazard_d2_;
+  std::vector<int> near_unknown_;  ///< rows to the nearest unknown cell in the column
+  std::vector<int> reach_;         ///< reach_[dc]: largest dr with dr^2 + dc^2 <= radius^2
   DistanceTransform edt_;
 };
 

@@ -23,16 +23,30 @@ struct HazardDiagnostics {
 class HazardClassifier {
  public:
   explicit HazardClassifier(const LayerHazardParams& params)
-      : params_(params), ring_(params.wheelbase_m / 2.0) {}
+      : params_(params), ring_(params.wheelbase_m / 2.0, params.k_sigma) {}
   virtual ~HazardClassifier() = default;
 
-  /// Classifies every cell of `grids` (a layer's export) into `hazard` (HazardClass).
-  virtual void classify(const LayerGrids& grids, DenseGrid& hazard,
+  /// Classifies every cell of `grids` (a layer's export) into `hazard` (HazardClass),
+  /// giving `hazard` and the diagnostics the layer's geometry.
+  void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diagnostics);
+
+  /// Classifies the cells of `region` only (SPEC 8.6) and leaves every other cell as it
+  /// is. `hazard` and the diagnostics must have the layer's geometry already: an earlier
+  /// classification of this window, shifted with it (DenseGrid::shift). A cell's result
+  /// is the same as in a whole-layer classification.
+  virtual void classify(const LayerGrids& grids, const GridRect& region, DenseGrid& hazard,
                         HazardDiagnostics& diagnostics) = 0;
+
+  /// How far a cell's result reads, in cells along rows and columns (kernel, wheel ring):
+  /// it can change only where a cell at most this far away changed (SPEC 8.6).
+  virtual int reach_cells() const = 0;
 
   const LayerHazardParams& params() const { return params_; }
 
  protected:
+  /// Gives the diagnostics the geometry of `height` before a whole-layer classification.
+  virtual void reset_diagnostics(const DenseGrid& /*height*/, HazardDiagnostics& /*diag*/) const {}
+
   LayerHazardParams params_;
   WheelRing ring_;
 };
@@ -41,9 +55,14 @@ class HazardClassifier {
 class PiecewiseConstantClassifier final : public HazardClassifier {
  public:
   explicit PiecewiseConstantClassifier(const LayerHazardParams& params);
-  void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
+  using HazardClassifier::classify;
+  void classify(const LayerGrids& grids, const GridRect& region, DenseGrid& hazard,
+                HazardDiagnostics& diag) override;
+  int reach_cells() const override;
 
  private:
+  void reset_diagnostics(const DenseGrid& height, HazardDiagnostics& diag) const override;
+
   RoughnessFilter filter_;
   int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
@@ -54,7 +73,10 @@ class PiecewiseConstantClassifier final : public HazardClassifier {
 class PlaneClassifier final : public HazardClassifier {
  public:
   using HazardClassifier::HazardClassifier;
-  void classify(const LayerGrids& grids, DenseGrid& hazard, HazardDiagnostics& diag) override;
+  using HazardClassifier::classify;
+  void classify(const LayerGrids& grids, const GridRect& region, DenseGrid& hazard,
+                HazardDiagnostics& diag) override;
+  int reach_cells() const override;
 
   /// Sub-cell height of the plane surface at W point (x, y) and its variance (exact): the
   /// holding cell's plane, or if that cell is not evaluable the plane of its nearest

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hazmap/map/dense_grid.hpp"
+#include "hazmap/map/grid_rect.hpp"
 
 namespace hazmap {
 
@@ -25,6 +26,11 @@ class RoughnessFilter {
   /// the cells' height variances), reusing buffers.
   void compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
                DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill);
+  /// The same for the cells of `region` only (SPEC 8.6), reading the rows and columns the
+  /// kernel reaches around it; the outputs must have `height`'s geometry already and keep
+  /// their other cells. Equal, cell for cell, to the whole-grid computation.
+  void compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
+               const GridRect& region, DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill);
 
  private:
   std::vector<float> row_max_, row_min_, row_count_, row_max_var_, row_min_var_;

@@ -21,7 +21,10 @@ struct RingSample {
 class WheelRing {
  public:
   static constexpr int kSamples = 8;
-  explicit WheelRing(double radius_m);
+  /// `k_sigma`: the classifier's k (Evidence), for which step_test's Bonferroni k of the
+  /// lowest of n samples is tabulated once: computing it (a bisection over erfc) per
+  /// partly observed cell cost most of a 1 cm layer's classification.
+  WheelRing(double radius_m, double k_sigma);
 
   double radius() const { return radius_; }
   double dx(int k) const { return dx_[k]; }
@@ -43,6 +46,8 @@ class WheelRing {
  private:
   double radius_;
   double dx_[kSamples], dy_[kSamples];
+  double k_sigma_;
+  double lowest_k_[kSamples + 1];  ///< kernel_k_sigma(k_sigma_, n)
 };
 
 }  // namespace hazmap

@@ -3,7 +3,10 @@
 // column 0 the smallest x (the JDEM and PNG layout). Layers export their ring buffers
 // into dense grids for hazard analysis and output.
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
 
 namespace hazmap {
@@ -24,6 +27,38 @@ struct DenseGrid {
     center_x_m = cx;
     center_y_m = cy;
     values.assign(static_cast<size_t>(rows) * cols, fill);
+  }
+  /// Moves the values by whole cells, value(row, col) = old value(row + drow, col + dcol),
+  /// with `fill` where that lies outside: a rolling window's export keeps the cells that
+  /// stayed in the window (each at its new place) when it moves. No allocation.
+  void shift(int drow, int dcol, float fill) {
+    if (drow == 0 && dcol == 0) return;
+    if (std::abs(drow) >= rows || std::abs(dcol) >= cols) {
+      std::fill(values.begin(), values.end(), fill);
+      return;
+    }
+    const int width = cols - std::abs(dcol);
+    const int src_col = std::max(dcol, 0), dst_col = std::max(-dcol, 0);
+    // Rows in the order that never overwrites a source row before it is read.
+    for (int k = 0; k < rows; ++k) {
+      const int row = drow >= 0 ? k : rows - 1 - k;
+      float* dst = &values[static_cast<size_t>(row) * cols];
+      const int src_row = row + drow;
+      if (src_row < 0 || src_row >= rows) {
+        std::fill(dst, dst + cols, fill);
+        continue;
+      }
+      std::memmove(dst + dst_col, &values[static_cast<size_t>(src_row) * cols] + src_col,
+                   static_cast<size_t>(width) * sizeof(float));
+      std::fill(dst, dst + dst_col, fill);
+      std::fill(dst + dst_col + width, dst + cols, fill);
+    }
+  }
+  /// Sets the cells of rows [row0, row1) x columns [col0, col1) to `v`.
+  void fill_rect(int row0, int row1, int col0, int col1, float v) {
+    for (int row = row0; row < row1; ++row)
+      std::fill(&values[static_cast<size_t>(row) * cols + col0],
+                &values[static_cast<size_t>(row) * cols + col1], v);
   }
   float& at(int row, int col) { return values[static_cast<size_t>(row) * cols + col]; }
   float at(int row, int col) const { return values[static_cast<size_t>(row) * cols + col]; }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hazmap/map/dense_grid.hpp"
+#include "hazmap/map/grid_rect.hpp"
 #include "hazmap/map/map_points.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
@@ -109,6 +110,14 @@ class Layer {
   /// by the pose uncertainty added since each cell's last update.
   virtual void export_grids(LayerGrids& out, const PoseUncertainty* pose, double robot_x_m,
                             double robot_y_m) const = 0;
+  /// Re-exports the cells of `rect` (image order of the current window) only, for a frame
+  /// that changed only them (SPEC 8.6). `out` must hold this window's grids already: an
+  /// earlier export, shifted with the window since (DenseGrid::shift). No pose inflation:
+  /// it changes every cell's variance, so those layers are exported whole.
+  virtual void export_region(LayerGrids& out, const GridRect& rect) const = 0;
+  /// Whether a cell's export changes from frame to frame without an update
+  /// (Rule::ages_exports: Kalman time inflation).
+  virtual bool ages_exports() const = 0;
 
   /// Moments of the cell holding global index (ix, iy) (empty if unknown or outside).
   virtual Moments cell_moments(CellIndex ix, CellIndex iy) const = 0;

@@ -51,6 +51,18 @@ class LayerStack {
   /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
   void export_layer(std::size_t i, LayerGrids& out) const;
 
+  /// Cells of layer i whose state this frame may have changed, as global indices cut to
+  /// the window (SPEC 8.6): those under the bounding box of the points of the last insert
+  /// (a superset of the cells they updated, one cell wider for rounding), and on a pooled
+  /// layer every cell the finer window covers (rebuilt from its children each frame).
+  /// Empty after a begin_frame without insert. Cells that entered the window are not in
+  /// it: the caller sees the window move.
+  CellRange changed_cells(std::size_t i) const;
+
+  /// Whether layer i's exported grids change every frame, updated or not: its rule ages
+  /// what it exports (Kalman time inflation), or pose uncertainty inflates every variance.
+  bool exports_vary(std::size_t i) const { return track_pose_ || layers_[i]->ages_exports(); }
+
   /// What layer i's SPEC 4 gates dropped in the last insert.
   GateCounts gate_counts(std::size_t i) const { return layers_[i]->gate_counts(); }
 
@@ -69,6 +81,10 @@ class LayerStack {
   PoseUncertainty pose_;
   std::uint32_t frame_ = 0;
   bool started_ = false;
+  /// Bounding box of the last insert's points [m] (changed_cells); none when !has_points_.
+  bool inserted_ = false;  ///< insert ran since begin_frame
+  bool has_points_ = false;
+  float min_x_ = 0, max_x_ = 0, min_y_ = 0, max_y_ = 0;
   double robot_x_m_ = 0, robot_y_m_ = 0;
 };
 

@@ -1,8 +1,8 @@
 #pragma once
 // A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
 // Cell, Sums, kMergePerRun, kUsesHeightSums, kStampInCell, kHeightGate and static known /
-// clear / reference_z / weights / merge_frame / age / to_moments / from_moments / height /
-// variance, plus kMergesChunks, run_sums, merge_run and max_precision for rules that
+// clear / reference_z / weights / merge_frame / age / ages_exports / to_moments /
+// from_moments / height / variance, plus kMergesChunks, run_sums, merge_run and max_precision for rules that
 // merge per run (and merge_chunk_runs where kMergesChunks), add_run for the others, and
 // gate_state and Config::gate_sigma where kHeightGate).
 //
@@ -199,9 +199,50 @@ class RollingLayer final : public Layer {
     } else {
       for (DenseGrid* g : plane_grids(out)) g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
     }
-    for (int row = 0; row < n; ++row) {
+    export_cells(out, GridRect::full(n, n));
+    if (pose) inflate_variance(out, *pose, robot_x_m, robot_y_m);
+  }
+
+  void export_region(LayerGrids& out, const GridRect& rect) const override {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const GridRect cut = rect.clipped(grid_.size(), grid_.size());
+    if (cut.empty()) return;
+    // Like export_grids: every grid gets the window's centre, also the plane grids a layer
+    // without a plane leaves empty.
+    auto clear = [&](DenseGrid& g) {
+      g.center_x_m = grid_.center_x_m();
+      g.center_y_m = grid_.center_y_m();
+      if (g.rows > 0) g.fill_rect(cut.row0, cut.row1, cut.col0, cut.col1, nan);
+    };
+    clear(out.height);
+    clear(out.variance);
+    for (DenseGrid* g : plane_grids(out)) clear(*g);
+    export_cells(out, cut);
+  }
+
+  bool ages_exports() const override { return Rule::ages_exports(config_); }
+
+  Moments cell_moments(CellIndex ix, CellIndex iy) const override {
+    if (!grid_.contains(ix, iy)) return Moments{};
+    return Rule::to_moments(current(grid_.slot(ix, iy)));
+  }
+
+  const char* rule_name() const override { return Rule::kName; }
+  bool has_plane() const override { return Rule::kHasPlane; }
+  const RollingGrid& grid() const override { return grid_; }
+
+  /// The cell at a global index as of this frame (tests). Requires grid().contains(ix, iy).
+  typename Rule::Cell cell(CellIndex ix, CellIndex iy) const { return current(grid_.slot(ix, iy)); }
+  const typename Rule::Config& config() const { return config_; }
+
+ private:
+  /// Writes the known cells of `rect` into grids that hold NaN there.
+  void export_cells(LayerGrids& out, const GridRect& rect) const {
+    const int n = grid_.size();
+    const double r = grid_.resolution_m();
+    for (int row = rect.row0; row < rect.row1; ++row) {
       const CellIndex iy = grid_.origin_y() + (n - 1 - row);
-      for (int col = 0; col < n; ++col) {
+      for (int col = rect.col0; col < rect.col1; ++col) {
         const CellIndex ix = grid_.origin_x() + col;
         const typename Rule::Cell c = current(grid_.slot(ix, iy));
         if (!Rule::known(c)) continue;
@@ -236,23 +277,8 @@ class RollingLayer final : public Layer {
         }
       }
     }
-    if (pose) inflate_variance(out, *pose, robot_x_m, robot_y_m);
   }
 
-  Moments cell_moments(CellIndex ix, CellIndex iy) const override {
-    if (!grid_.contains(ix, iy)) return Moments{};
-    return Rule::to_moments(current(grid_.slot(ix, iy)));
-  }
-
-  const char* rule_name() const override { return Rule::kName; }
-  bool has_plane() const override { return Rule::kHasPlane; }
-  const RollingGrid& grid() const override { return grid_; }
-
-  /// The cell at a global index as of this frame (tests). Requires grid().contains(ix, iy).
-  typename Rule::Cell cell(CellIndex ix, CellIndex iy) const { return current(grid_.slot(ix, iy)); }
-  const typename Rule::Config& config() const { return config_; }
-
- private:
   static constexpr int kPrefetchPoints = 32;  ///< ~4 runs ahead on a 1 cm layer
   static constexpr int kPrefetchRuns = 4;
   static constexpr int kPrefetchCells = 8;

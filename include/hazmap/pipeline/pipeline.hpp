@@ -7,12 +7,9 @@
 
 #include <opencv2/core.hpp>
 
-#include <memory>
-
-#include "hazmap/hazard/fused_hazard.hpp"
-#include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
@@ -40,21 +37,6 @@ struct FrameReport {
   StageTimes ms;
 };
 
-/// What a layer shows after a frame: dense grids in image order (row 0 = largest y).
-struct LayerView {
-  LayerGrids map;                 ///< height, variance (+ plane grids for CCM layers)
-  HazardDiagnostics diagnostics;  ///< the classifier's intermediate grids
-  DenseGrid hazard;               ///< HazardClass values
-};
-
-/// The maps a planner consumes (SPEC 8.4, 8.5), at the finest layer's resolution.
-struct PlannerMaps {
-  DenseGrid fused;            ///< HazardClass values
-  DenseGrid clearance;        ///< [m], NaN where no layer proves the cell traversable
-  DenseGrid footprint;        ///< HazardClass values for the rover's centre
-  DenseGrid hazard_distance;  ///< [m] to the nearest fused hazard cell, capped
-};
-
 class Pipeline {
  public:
   Pipeline(const Config& config, const StereoCalibration& calibration);
@@ -66,10 +48,12 @@ class Pipeline {
   FrameReport process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                       const PoseNoise& noise = {});
 
-  const std::vector<LayerView>& layers() const { return views_; }
-  const DenseGrid& fused_hazard() const { return planner_.fused; }
-  const PlannerMaps& planner_maps() const { return planner_; }
-  const HazardParams& hazard_params() const { return hazard_params_; }
+  const std::vector<LayerView>& layers() const { return hazards_.layers(); }
+  const DenseGrid& fused_hazard() const { return hazards_.planner_maps().fused; }
+  const PlannerMaps& planner_maps() const { return hazards_.planner_maps(); }
+  const HazardParams& hazard_params() const { return hazards_.params(); }
+  /// The hazard stage, with what its last frame recomputed (SPEC 8.6).
+  const HazardStage& hazard_stage() const { return hazards_; }
   const LayerStack& map() const { return map_; }
   /// Each layer's share of the last frame's insertion, ms (LayerStack::insert).
   const std::vector<double>& layer_map_ms() const { return layer_map_ms_; }
@@ -82,22 +66,14 @@ class Pipeline {
   const DisparityMatcher& matcher() const { return front_.matcher(); }
 
  private:
-  void analyse_hazards();
-
   Config config_;
   StereoFrontEnd front_;
   LayerStack map_;
   CcmWeighting weighting_;
   MapPoints points_;  ///< the frame's points as the map reads them
   std::vector<double> layer_map_ms_;
-  HazardParams hazard_params_;
-  std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
-  HazardFusion fusion_;
-  std::vector<FusionInput> fusion_inputs_;
   std::vector<GateCounts> layer_gates_;
-
-  std::vector<LayerView> views_;
-  PlannerMaps planner_;
+  HazardStage hazards_;
 };
 
 }  // namespace hazmap

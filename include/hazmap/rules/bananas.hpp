@@ -70,6 +70,8 @@ struct BananasRule {
   }
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}
+  /// Whether age() changes what a cell exports (its height or variance).
+  static bool ages_exports(const Config&) { return false; }
   /// Pooling view: an unweighted height sample with its variance (szz = w var, as OMG),
   /// so that a pooled parent's variance is the children's mean variance plus the spread
   /// of their heights.

@@ -110,6 +110,8 @@ struct CcmRule {
 
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}
+  /// Whether age() changes what a cell exports.
+  static bool ages_exports(const Config&) { return false; }
 
   // ---- Queries (SPEC 6.4); covariances are S / W. ----
 

@@ -153,6 +153,9 @@ struct KalmanRule {
     merge_frame(cfg, c, s, z_m, 0);
   }
 
+  /// Whether age() changes what a cell exports: the variance grows every frame.
+  static bool ages_exports(const Config& cfg) { return cfg.time_inflation_m2 > 0; }
+
   /// The inflation of `frames` frames at once: var += frames q, i.e.
   /// precision = 1 / (1 / precision + frames q). Layers apply it lazily, when a cell is
   /// next merged or read, so that a frame does not pass over every cell.

@@ -116,6 +116,10 @@ struct OmgRule {
     merge_frame(cfg, c, s, z_m, 0);
   }
 
+  /// Whether age() changes what a cell exports: no, decay scales S only, which neither the
+  /// height nor the variance shows (it weighs later points).
+  static bool ages_exports(const Config&) { return false; }
+
   /// The decay of `frames` frames at once: S *= decay^frames (applied lazily by layers).
   static void age(const Config& cfg, Cell& c, std::uint32_t frames) {
     if (known(c) && frames > 0 && cfg.decay != 1.0)

@@ -1,0 +1,234 @@
+#include "hazmap/pipeline/hazard_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace hazmap {
+namespace {
+
+/// a \ b for two rectangles of global cells: at most four rectangles (some empty).
+int difference(const CellRange& a, const CellRange& b, CellRange (&out)[4]) {
+  if (b.empty() || a.x1 <= b.x0 || b.x1 <= a.x0 || a.y1 <= b.y0 || b.y1 <= a.y0) {
+    out[0] = a;
+    return 1;
+  }
+  const CellIndex mx0 = std::max(a.x0, b.x0), mx1 = std::min(a.x1, b.x1);
+  out[0] = {a.x0, mx0, a.y0, a.y1};                    // left of b
+  out[1] = {mx1, a.x1, a.y0, a.y1};                    // right of b
+  out[2] = {mx0, mx1, a.y0, std::max(a.y0, b.y0)};     // below b
+  out[3] = {mx0, mx1, std::min(a.y1, b.y1), a.y1};     // above b
+  return 4;
+}
+
+/// Image rectangle (row 0 = largest y) of the global cells `r` of a coarser grid, each
+/// `scale` cells of this one, on a rows-high grid whose first cell is (x0, y0). Not cut
+/// to the grid (a rectangle outside it may still reach in once grown), but kept within a
+/// few grid sizes so that it fits an int.
+GridRect image_rect(const CellRange& r, CellIndex scale, CellIndex x0, CellIndex y0, int rows) {
+  if (r.empty()) return {};
+  const CellIndex lim = 4 * static_cast<CellIndex>(rows) + 4;
+  auto fit = [lim](CellIndex v) { return static_cast<int>(std::clamp(v, -lim, lim)); };
+  return {fit(rows - (r.y1 * scale - y0)), fit(rows - (r.y0 * scale - y0)), fit(r.x0 * scale - x0),
+          fit(r.x1 * scale - x0)};
+}
+
+/// Global cells of the image rectangle `g` on an n-high grid whose first cell is (x0, y0).
+CellRange global_range(const GridRect& g, CellIndex x0, CellIndex y0, int n) {
+  if (g.empty()) return {};
+  return {x0 + g.col0, x0 + g.col1, y0 + n - g.row1, y0 + n - g.row0};
+}
+
+/// The smallest rectangle holding every cell of `region` whose value differs from
+/// `before` (the grid's values before this run recomputed the region).
+GridRect changed_bounds(const DenseGrid& now, const std::vector<float>& before,
+                        const DirtyRegion& region) {
+  GridRect bounds;
+  for (const GridRect& rect : region) {
+    const GridRect cut = rect.clipped(now.rows, now.cols);
+    for (int row = cut.row0; row < cut.row1; ++row) {
+      const size_t base = static_cast<size_t>(row) * now.cols;
+      int first = -1, last = -1;
+      for (int col = cut.col0; col < cut.col1; ++col)
+        if (now.values[base + col] != before[base + col]) {
+          if (first < 0) first = col;
+          last = col;
+        }
+      if (first >= 0) bounds = bounds.hull({row, row + 1, first, last + 1});
+    }
+  }
+  return bounds;
+}
+
+/// The grids of a layer's export that are in use (plane grids are empty on other layers).
+template <class F>
+void for_each_grid(LayerGrids& g, F&& f) {
+  for (DenseGrid* d : {&g.height, &g.variance, &g.count, &g.slope_x, &g.slope_y, &g.roughness,
+                       &g.coverage, &g.evaluable, &g.noise_variance, &g.lateral_xx, &g.lateral_yy,
+                       &g.lateral_xy, &g.lateral_xz, &g.lateral_yz})
+    if (d->rows > 0) f(*d);
+}
+
+}  // namespace
+
+HazardStage::HazardStage(const HazardParams& params, bool incremental)
+    : params_(params),
+      incremental_(incremental),
+      views_(params.layers.size()),
+      layer_state_(params.layers.size()) {
+  for (size_t i = 0; i < views_.size(); ++i) {
+    classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
+    fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});
+  }
+}
+
+void HazardStage::run(const LayerStack& map) {
+  const RollingGrid& finest = map.layer(0).grid();
+  // The planner's maps are centred like the finest layer, which shares its cell borders:
+  // their first cell, in the finest layer's global indices.
+  const int cells = fused_cells(params_.fused_extent_m, finest.resolution_m());
+  const CellIndex fused_x0 = finest.origin_x() + finest.size() / 2 - cells / 2;
+  const CellIndex fused_y0 = finest.origin_y() + finest.size() / 2 - cells / 2;
+  if (!fused_at_.placed) {  // the comparison buffer's largest size, once: no allocation later
+    size_t largest = static_cast<size_t>(cells) * cells;
+    for (size_t i = 0; i < map.size(); ++i)
+      largest = std::max(largest, static_cast<size_t>(map.layer(i).grid().size()) *
+                                      static_cast<size_t>(map.layer(i).grid().size()));
+    before_.reserve(largest);
+  }
+  fused_region_.clear();
+  bool whole = false;
+  for (size_t i = 0; i < map.size(); ++i)
+    if (!run_layer(map, i, fused_x0, fused_y0, cells)) whole = true;
+  run_planner(whole, fused_x0, fused_y0, cells);
+}
+
+bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fused_x0,
+                            CellIndex fused_y0, int cells) {
+  const Layer& layer = map.layer(i);
+  const RollingGrid& g = layer.grid();
+  const int n = g.size();
+  LayerState& s = layer_state_[i];
+  LayerView& v = views_[i];
+  const CellRange window{g.origin_x(), g.origin_x() + n, g.origin_y(), g.origin_y() + n};
+  const bool placed = s.at.placed && std::abs(window.x0 - s.at.x) < n && std::abs(window.y0 - s.at.y) < n;
+  const CellRange old_window =
+      placed ? CellRange{s.at.x, s.at.x + n, s.at.y, s.at.y + n} : CellRange{};
+  s.at = {true, window.x0, window.y0};
+  s.classified.clear();
+  // The window moved by (dx, dy) cells: a kept cell's column drops by dx, its row (row 0
+  // = largest y) grows by dy.
+  const int drow = -static_cast<int>(window.y0 - old_window.y0);
+  const int dcol = static_cast<int>(window.x0 - old_window.x0);
+  if (placed) {
+    v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
+    before_ = v.hazard.values;
+  }
+
+  if (!incremental_ || !placed || map.exports_vary(i)) {
+    map.export_layer(i, v.map);
+    classifiers_[i]->classify(v.map, v.hazard, v.diagnostics);
+    s.classified.add(GridRect::full(n, n));
+  } else {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for_each_grid(v.map, [&](DenseGrid& d) { d.shift(drow, dcol, nan); });
+    v.diagnostics.kernel_range.shift(drow, dcol, nan);
+    v.diagnostics.kernel_sigma.shift(drow, dcol, nan);
+    v.diagnostics.kernel_fill.shift(drow, dcol, 0.0f);
+    v.hazard.center_x_m = g.center_x_m();
+    v.hazard.center_y_m = g.center_y_m();
+    for (DenseGrid* d : {&v.diagnostics.kernel_range, &v.diagnostics.kernel_sigma,
+                         &v.diagnostics.kernel_fill})
+      if (d->rows > 0) {  // plane layers leave them empty
+        d->center_x_m = g.center_x_m();
+        d->center_y_m = g.center_y_m();
+      }
+    // Cells whose export may differ: updated by the frame, or new to the window.
+    scratch_.clear();
+    scratch_.add(image_rect(map.changed_cells(i), 1, window.x0, window.y0, n));
+    CellRange parts[4];
+    for (int k = 0, m = difference(window, old_window, parts); k < m; ++k)
+      scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
+    for (const GridRect& r : scratch_) layer.export_region(v.map, r);
+    // Results read cells up to reach_cells() away, inside the window: near the cells
+    // above, and near the strips that left (a kernel or ring there now leaves the layer).
+    for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
+      scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
+    s.classified = scratch_;
+    s.classified.dilate(classifiers_[i]->reach_cells(), n, n);
+    for (const GridRect& r : s.classified) classifiers_[i]->classify(v.map, r, v.hazard, v.diagnostics);
+  }
+  if (!placed) return false;  // the fused map is redone whole
+
+  // The fused map reads this layer where its hazard changed, and no longer reads it on
+  // the strips that left its window. Outside the window and unknown read alike, so the
+  // strips that entered matter only where their hazard is not unknown: a change.
+  // Each of the layer's cells covers scale x scale fused cells (config validation makes
+  // resolutions whole multiples; otherwise the fused map is redone whole).
+  const double ratio = g.resolution_m() / map.layer(0).grid().resolution_m();
+  const auto scale = static_cast<CellIndex>(std::llround(ratio));
+  if (scale < 1 || std::abs(ratio - double(scale)) > 1e-6) return false;
+  const GridRect changed = changed_bounds(v.hazard, before_, s.classified);
+  fused_region_.add(image_rect(global_range(changed, window.x0, window.y0, n), scale, fused_x0,
+                               fused_y0, cells)
+                        .dilated(1)
+                        .clipped(cells, cells));
+  CellRange parts[4];
+  for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
+    fused_region_.add(
+        image_rect(parts[k], scale, fused_x0, fused_y0, cells).dilated(1).clipped(cells, cells));
+  return true;
+}
+
+void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0, int cells) {
+  const DenseGrid& finest = views_.front().hazard;
+  const double r = finest.resolution_m;
+  PlannerMaps& p = planner_;
+  const bool placed = fused_at_.placed && std::abs(fused_x0 - fused_at_.x) < cells &&
+                      std::abs(fused_y0 - fused_at_.y) < cells;
+  const CellRange window{fused_x0, fused_x0 + cells, fused_y0, fused_y0 + cells};
+  const CellRange old_window =
+      placed ? CellRange{fused_at_.x, fused_at_.x + cells, fused_at_.y, fused_at_.y + cells}
+             : CellRange{};
+  fused_at_ = {true, fused_x0, fused_y0};
+  if (!incremental_ || whole || !placed) {
+    fusion_.fuse(fusion_inputs_, params_.critical_height_m, cells, r, finest.center_x_m,
+                 finest.center_y_m, p.fused, p.clearance);
+    fusion_.footprint(p.fused, params_.footprint_radius_m, p.footprint, p.hazard_distance);
+    fused_region_.clear();
+    fused_region_.add(GridRect::full(cells, cells));
+    footprint_region_ = fused_region_;
+    return;
+  }
+  const int drow = -static_cast<int>(window.y0 - old_window.y0);
+  const int dcol = static_cast<int>(window.x0 - old_window.x0);
+  p.fused.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
+  p.clearance.shift(drow, dcol, std::numeric_limits<float>::quiet_NaN());
+  p.footprint.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
+  for (DenseGrid* d : {&p.fused, &p.clearance}) {
+    d->center_x_m = finest.center_x_m;
+    d->center_y_m = finest.center_y_m;
+  }
+  CellRange entered[4], left[4];
+  const int n_entered = difference(window, old_window, entered);
+  const int n_left = difference(old_window, window, left);
+  for (int k = 0; k < n_entered; ++k)
+    fused_region_.add(image_rect(entered[k], 1, fused_x0, fused_y0, cells).clipped(cells, cells));
+  before_ = p.fused.values;
+  fusion_.fuse(fusion_inputs_, params_.critical_height_m, fused_region_, p.fused, p.clearance);
+
+  // The footprint reads the fused map within its radius, and the map's edge.
+  footprint_region_.clear();
+  footprint_region_.add(changed_bounds(p.fused, before_, fused_region_));
+  for (int k = 0; k < n_entered; ++k)
+    footprint_region_.add(image_rect(entered[k], 1, fused_x0, fused_y0, cells));
+  for (int k = 0; k < n_left; ++k)
+    footprint_region_.add(image_rect(left[k], 1, fused_x0, fused_y0, cells));
+  const int grow = static_cast<int>(std::ceil(params_.footprint_radius_m / r)) + 1;
+  footprint_region_.dilate(grow, cells, cells);
+  fusion_.footprint(p.fused, params_.footprint_radius_m, footprint_region_, p.footprint,
+                    p.hazard_distance);
+}
+
+}  // namespace hazmap
