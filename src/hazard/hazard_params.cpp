@@ -39,6 +39,10 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& c
   p.tan_face = p.h_min_m / layer.resolution_m;
   p.min_points = config.rules.ccm.min_points;
   p.max_effective_count = config.rules.ccm.weighting == "constant" ? config.rules.ccm.max_weight : 1e300;
+  if (p.family == HazardFamily::piecewise_constant) {
+    const double t = std::tan(p.max_slope_rad);
+    p.published_extra_variance_m2 = layer.resolution_m * layer.resolution_m / 6.0 * t * t;
+  }
   return p;
 }
 

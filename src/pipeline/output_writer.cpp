@@ -189,8 +189,10 @@ void write_frame_outputs(const std::filesystem::path& dir, const std::string& fr
     }
     if (output.jdem) {
       write_jdem(dir / (prefix + "height.jdem"), to_jdem(v.map.height, "height", "m", frame_name));
-      write_jdem(dir / (prefix + "variance.jdem"),
-                 to_jdem(v.map.variance, "variance", "m^2", frame_name));
+      JdemGrid variance = to_jdem(v.map.variance, "variance", "m^2", frame_name);
+      const double extra = pipeline.hazard_params().layers[i].published_extra_variance_m2;
+      for (float& value : variance.values) value = static_cast<float>(value + extra);  // NaN stays NaN
+      write_jdem(dir / (prefix + "variance.jdem"), variance);
       write_jdem(dir / (prefix + "hazard.jdem"), to_jdem(v.hazard, "hazard", "class", frame_name));
       if (v.map.slope_x.rows > 0) {  // CCM: h + slope_x dx + slope_y dy is the sub-cell surface
         write_jdem(dir / (prefix + "slope_x.jdem"), to_jdem(v.map.slope_x, "slope_x", "m/m", frame_name));

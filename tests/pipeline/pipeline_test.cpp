@@ -90,6 +90,43 @@ TEST(Pipeline, RockIsAHazardAndOnlyNearTheRock) {
   EXPECT_EQ(far, 0);
 }
 
+// SPEC 10: a piecewise-constant cell's published variance covers ground up to max_slope
+// across its cell about an unknown centroid, (r^2/6) tan^2(max_slope); a CCM layer's is
+// published as the map holds it.
+TEST(Pipeline, PublishedVarianceOfPiecewiseConstantCellsCoversTheSlopeAcrossTheCell) {
+  testing::TempDir dir;
+  Config config = test_config();
+  LayerConfig ccm = config.map.layers.front();
+  ccm.rule = RuleKind::ccm;
+  ccm.resolution_m = 0.04;
+  ccm.size = 32;
+  config.map.layers.push_back(ccm);
+  const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
+  Pipeline pipeline(config, seq.calibration);
+  const auto& f = seq.frames.front();
+  pipeline.process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
+  write_frame_outputs(dir.path(), f.name, pipeline, f.pose.T_W_B, config.output);
+  const double t = std::tan(config.hazard.max_slope_deg * M_PI / 180.0);
+  const double extra[2] = {0.01 * 0.01 / 6.0 * t * t, 0.0};
+  ASSERT_EQ(config.map.layers[0].resolution_m, 0.01);
+  for (int i = 0; i < 2; ++i) {
+    const JdemGrid written = read_jdem(dir / ("L" + std::to_string(i) + "_variance.jdem"));
+    const DenseGrid& held = pipeline.layers()[static_cast<size_t>(i)].map.variance;
+    ASSERT_EQ(written.values.size(), held.values.size());
+    int known = 0;
+    for (size_t k = 0; k < held.values.size(); ++k) {
+      if (std::isnan(held.values[k])) {
+        EXPECT_TRUE(std::isnan(written.values[k]));
+        continue;
+      }
+      ++known;
+      EXPECT_NEAR(written.values[k], held.values[k] + extra[i], 1e-6 * (held.values[k] + extra[i]))
+          << "L" << i;
+    }
+    EXPECT_GT(known, 100) << "L" << i;
+  }
+}
+
 TEST(Pipeline, SampleSequenceRunWritesAllOutputsAndShowsAllThreeClasses) {
   testing::TempDir dir;
   const Config config = load_config(testing::source_dir() / "config/default.yaml");

@@ -41,6 +41,12 @@ struct LayerHazardParams {
   /// Points a CCM cell's statistics can count on at most (its weight cap, for constant
   /// weights: older points are discounted beyond it); infinity otherwise.
   double max_effective_count = 1e300;
+  /// Added to a piecewise-constant cell's variance where it is published (SPEC 10: every
+  /// published height within 3 sigma at any point of its cell): (r^2/6) tan^2(max_slope),
+  /// the spread over the cell of ground up to max_slope about the points' centroid, itself
+  /// anywhere in the cell. The classifier uses the estimate's variance. 0 for CCM, whose
+  /// planes (or published variance of cells without one) carry it already.
+  double published_extra_variance_m2 = 0.0;
 };
 
 struct HazardParams {
