@@ -55,10 +55,31 @@ void PiecewiseConstantClassifier::reset_diagnostics(const DenseGrid& h,
 int PiecewiseConstantClassifier::reach_cells() const {
   int reach = (params_.kernel - 1) / 2;
   if (params_.ring_tests)
-    for (int k = 0; k < WheelRing::kSamples; ++k)
-      reach = std::max({reach, std::abs(ring_col_offset(ring_, k, params_.resolution_m)),
-                        std::abs(ring_row_offset(ring_, k, params_.resolution_m))});
+    for (int k = 0; k < WheelRing::kSamples; ++k)  // + 1: a sample may come from a neighbour
+      reach = std::max({reach, std::abs(ring_col_offset(ring_, k, params_.resolution_m)) + 1,
+                        std::abs(ring_row_offset(ring_, k, params_.resolution_m)) + 1});
   return reach;
+}
+
+RingSample PiecewiseConstantClassifier::ring_sample(const LayerGrids& g, int row, int col,
+                                                    double tan_slope) const {
+  // The cell holding the sample point, or if it is unobserved (a fine layer has holes) the
+  // nearest observed of its 8 neighbours: its height stands d away from the point, which
+  // ground up to max_slope can shift by d tan(max_slope) (added as variance).
+  const DenseGrid& h = g.height;
+  RingSample s;
+  double best = std::numeric_limits<double>::infinity();
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int r = row + dr, c = col + dc;
+      const double d2 = double(dr * dr + dc * dc);
+      if (r < 0 || c < 0 || r >= h.rows || c >= h.cols || d2 >= best || std::isnan(h.at(r, c)))
+        continue;
+      best = d2;
+      const double lever2 = d2 * h.resolution_m * h.resolution_m * tan_slope * tan_slope;
+      s = {h.at(r, c), g.variance.at(r, c) + lever2, true, true};
+    }
+  return s;
 }
 
 void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& region,
@@ -96,13 +117,8 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
           ev.missing();
         } else {
           RingSample s[WheelRing::kSamples];
-          for (int k = 0; k < WheelRing::kSamples; ++k) {
-            const int r = row + ring_dr[k], c = col + ring_dc[k];
-            if (r < 0 || c < 0 || r >= h.rows || c >= h.cols) continue;
-            const float zk = h.at(r, c);
-            if (std::isnan(zk)) continue;
-            s[k] = {zk, g.variance.at(r, c), true, true};
-          }
+          for (int k = 0; k < WheelRing::kSamples; ++k)
+            s[k] = ring_sample(g, row + ring_dr[k], col + ring_dc[k], tan_slope);
           ring_.step_test(z, g.variance.at(row, col), s, p.h_min_m, tan_slope, ev);
         }
       }

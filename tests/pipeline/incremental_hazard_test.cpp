@@ -181,10 +181,11 @@ TEST(IncrementalHazardsDirtyRegion, OneInsertedPointDirtiesItsCellGrownByTheReac
     int size;
     int reach;  // kernel / ring reach in cells
   };
-  // Kalman 1 cm: the ring (15 cm = 15 cells) reaches beyond the 7-cell kernel. CCM 4 cm:
+  // Kalman 1 cm: the ring (15 cm = 15 cells, + 1 for a sample from a neighbour) reaches
+  // beyond the 7-cell kernel. CCM 4 cm:
   // ceil(15 / 4) + 1 cells for the sub-cell ring samples, + 1 for a sample taken from a
   // neighbour of a cell that is not evaluable.
-  for (const Case& c : {Case{RuleKind::kalman, 0.01, 128, 15}, Case{RuleKind::ccm, 0.04, 64, 6}}) {
+  for (const Case& c : {Case{RuleKind::kalman, 0.01, 128, 16}, Case{RuleKind::ccm, 0.04, 64, 6}}) {
     OnePointMap m(layer(c.rule, c.resolution, c.size));
     m.frame(0.2, 0.1);
     EXPECT_EQ(m.stage->classified(0).area(), long(c.size) * c.size);  // first frame: whole

@@ -63,6 +63,10 @@ class PiecewiseConstantClassifier final : public HazardClassifier {
  private:
   void reset_diagnostics(const DenseGrid& height, HazardDiagnostics& diag) const override;
 
+  /// The observed height nearest the ring sample in cell (row, col) (itself or one of its
+  /// 8 neighbours, with the lever as extra variance); unknown if none.
+  RingSample ring_sample(const LayerGrids& g, int row, int col, double tan_slope) const;
+
   RoughnessFilter filter_;
   int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
