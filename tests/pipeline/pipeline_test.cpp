@@ -191,7 +191,7 @@ TEST(Pipeline, BelowGroundPointsAndGatedPointsAreCounted) {
   strict.rules.kalman.gate_sigma = 0.5;
   Config open = test_config();
   open.stereo.max_below_ground_m = 0.0;
-  open.rules.kalman.gate_sigma = 0.0;  // default.yaml gates at 3 sigma
+  open.rules.kalman.gate_sigma = 0.0;
   Pipeline with_check(strict, seq.calibration), without(open, seq.calibration);
   for (const auto& f : seq.frames) {
     const cv::Mat left = read_image(f.left_path), right = read_image(f.right_path);
