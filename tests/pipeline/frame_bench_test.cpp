@@ -25,7 +25,6 @@ TEST(FullResConfig, LoadsValidatesAndKeepsTheFlightStack) {
   const Config flight = load_config(testing::source_dir() / "config/cadre_flight.yaml");
   Config same = full;
   same.stereo.num_disparities = flight.stereo.num_disparities;
-  same.stereo.block_size = flight.stereo.block_size;
   same.stereo.speckle_window = flight.stereo.speckle_window;
   same.stereo.support_rows = flight.stereo.support_rows;
   EXPECT_EQ(to_yaml(same), to_yaml(flight));
