@@ -58,5 +58,6 @@ int cmd_simulate(int argc, char** argv);
 int cmd_evaluate(int argc, char** argv);
 int cmd_calibrate(int argc, char** argv);
 int cmd_import_euroc(int argc, char** argv);
+int cmd_bench(int argc, char** argv);
 
 }  // namespace hazmap::cli

@@ -124,3 +124,27 @@ TEST(Cli, BadConfigKeyIsNamed) {
 
 }  // namespace
 }  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+TEST(CliBench, OneSampleFramePrintsStagesAndTheRatio) {
+  // The subcommand end to end on one 640 x 520 sample frame with its own config (the
+  // full-resolution default would render frames for ~25 s). No timing is checked.
+  const std::string cmd = std::string(HAZMAP_CLI) + " bench --config " +
+                          (testing::source_dir() / "config/cadre_flight.yaml").string() +
+                          " --sequence " + (testing::source_dir() / "data/sample").string() +
+                          " --frames 1 --repetitions 1 2>&1";
+  const CommandResult r = testing::run_command(cmd);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* line : {"rectify", "disparity", "points", "map", "hazard", "frame",
+                           "StereoBM", "frame / StereoBM", "640 x 520"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << " missing in\n" << r.output;
+
+  EXPECT_EQ(testing::run_command(std::string(HAZMAP_CLI) + " bench --repetitions 0 2>&1")
+                .exit_code,
+            2);
+}
+
+}  // namespace
+}  // namespace hazmap

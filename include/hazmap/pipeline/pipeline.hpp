@@ -62,6 +62,9 @@ class Pipeline {
   const std::vector<GateCounts>& layer_gates() const { return layer_gates_; }
   const PointCloud& cloud() const { return front_.cloud(); }
   const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
+  /// The last frame's rectified 8-bit grey pair (what the matcher saw).
+  const cv::Mat& rectified_left() const { return front_.rectified_left(); }
+  const cv::Mat& rectified_right() const { return front_.rectified_right(); }
   const Rectifier& rectifier() const { return front_.rectifier(); }
   const DisparityMatcher& matcher() const { return front_.matcher(); }
 
