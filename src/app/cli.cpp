@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -31,6 +32,14 @@ double Args::number(const std::string& name) const {
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0') throw UsageError("--" + name + ": '" + text + "' is not a number");
   return v;
+}
+
+long long Args::whole(const std::string& name, long long lo, long long hi) const {
+  const double v = number(name);
+  if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi)) || v != std::floor(v))
+    throw UsageError("--" + name + ": '" + required(name) + "' is not a whole number in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<long long>(v);
 }
 
 Args parse_args(int argc, char** argv, const std::vector<std::string>& value_flags,

@@ -34,6 +34,9 @@ struct Args {
   std::string get(const std::string& name, const std::string& fallback = "") const;
   std::string required(const std::string& name) const;
   double number(const std::string& name) const;  ///< throws UsageError if not a number
+  /// A whole number in [lo, hi], range-checked before any integer conversion (a double
+  /// outside the target type's range is undefined to convert); UsageError otherwise.
+  long long whole(const std::string& name, long long lo, long long hi) const;
 };
 
 /// Parses argv[2..]. `value_flags` take a value ("set" always does and may repeat);

@@ -31,12 +31,16 @@ the detected corners of each pair on one row after rectification.
 
 cv::Size parse_board(const std::string& text) {
   const auto x = text.find('x');
+  // Each part is kept in a named string: strtol's end pointer must point into storage
+  // that is still alive when *end is read (a temporary's c_str() was dead by then).
+  const std::string w_text = x == std::string::npos ? std::string() : text.substr(0, x);
+  const std::string h_text = x == std::string::npos ? std::string() : text.substr(x + 1);
   char* end1 = nullptr;
   char* end2 = nullptr;
-  const long w = x == std::string::npos ? 0 : std::strtol(text.substr(0, x).c_str(), &end1, 10);
-  const long h = x == std::string::npos ? 0 : std::strtol(text.substr(x + 1).c_str(), &end2, 10);
-  if (x == std::string::npos || *end1 != '\0' || *end2 != '\0' || w < 2 || h < 2 || w > 100 ||
-      h > 100)
+  const long w = std::strtol(w_text.c_str(), &end1, 10);
+  const long h = std::strtol(h_text.c_str(), &end2, 10);
+  if (x == std::string::npos || w_text.empty() || h_text.empty() || *end1 != '\0' ||
+      *end2 != '\0' || w < 2 || h < 2 || w > 100 || h > 100)
     throw UsageError("--board " + text + ": expected inner corners as WxH, e.g. 9x6");
   return {static_cast<int>(w), static_cast<int>(h)};
 }

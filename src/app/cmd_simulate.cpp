@@ -144,12 +144,15 @@ int cmd_simulate(int argc, char** argv) {
   hazmap::sim::SimulationOptions options;
   options.scenario = args.get("scenario", options.scenario);
   const std::filesystem::path out = args.required("out");
-  if (args.has("seed")) options.seed = static_cast<std::uint64_t>(args.number("seed"));
-  if (args.has("frames")) options.frames = static_cast<int>(args.number("frames"));
+  // Whole numbers range-checked before the cast: 2^53 is the largest seed a double given
+  // on the command line holds exactly; simulate accepts 1 to 100000 frames.
+  if (args.has("seed"))
+    options.seed = static_cast<std::uint64_t>(args.whole("seed", 0, 9007199254740992LL));
+  if (args.has("frames")) options.frames = static_cast<int>(args.whole("frames", 1, 100000));
   if (args.has("scale")) options.scale = args.number("scale");
   if (args.has("step")) options.step_m = args.number("step");
   if (args.has("samples"))
-    options.render.samples_per_axis = static_cast<int>(args.number("samples"));
+    options.render.samples_per_axis = static_cast<int>(args.whole("samples", 1, 8));
   if (args.has("noise-sigma")) options.render.noise_sigma_dn = args.number("noise-sigma");
   if (args.has("gt-margin")) options.ground_truth_margin_m = args.number("gt-margin");
   options.render.sun_shading = !args.on("no-sun");

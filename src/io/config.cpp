@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/map/grid_math.hpp"
 #include "yaml_access.hpp"
 
 namespace hazmap {
@@ -232,7 +233,11 @@ void validate(const Config& c) {
     invalid("stereo.pre_filter_size", "must be odd and in [5, 255]");
   if (s.input_bits != 0 && (s.input_bits < 8 || s.input_bits > 16))
     invalid("stereo.input_bits", "must be 0 (detect) or in [8, 16]");
-  if (s.stride < 1) invalid("stereo.stride", "must be >= 1");
+  // A stride of 4096 keeps one pixel per 4096 x 4096 block: beyond that a stride selects
+  // nothing more in any camera image, and near INT_MAX the pixel loop's counters overflowed.
+  if (s.stride < 1 || s.stride > kMaxStride)
+    invalid("stereo.stride", "must be in [1, " + std::to_string(kMaxStride) +
+                                 "] (a larger stride keeps at most one pixel of a 4096 px image)");
   if (s.roi_px[0] < 0 || s.roi_px[1] < 0 || s.roi_px[2] < 0 || s.roi_px[3] < 0)
     invalid("stereo.roi", "x, y, width and height must be >= 0");
   if (!(s.z_min_m > 0)) invalid("stereo.z_min", "must be > 0");
@@ -248,9 +253,14 @@ void validate(const Config& c) {
   for (size_t i = 0; i < c.map.layers.size(); ++i) {
     const LayerConfig& l = c.map.layers[i];
     const std::string k = "map.layers." + std::to_string(i);
-    if (!(l.resolution_m > 0)) invalid(k + ".resolution", "must be > 0");
+    if (!(l.resolution_m >= kMinResolutionM && l.resolution_m <= kMaxResolutionM))
+      invalid(k + ".resolution",
+              "must be in [1e-4, 1000] m (finer than 0.1 mm is far below any stereo point's "
+              "error; coarser than 1 km maps nothing a rover meets)");
     if (l.size < 2 || l.size % 2 != 0) invalid(k + ".size", "must be even and >= 2");
-    if (l.size > 100000) invalid(k + ".size", "is implausibly large");
+    if (l.size > kMaxLayerSize)
+      invalid(k + ".size", "must be <= " + std::to_string(kMaxLayerSize) +
+                               " (a layer's size^2 cells are addressed with 32-bit indices)");
     if (!std::isfinite(l.max_std_ratio)) invalid(k + ".max_std_ratio", "must be finite");
     if (l.hazard.kernel < 1 || l.hazard.kernel % 2 == 0 || l.hazard.kernel >= l.size)
       invalid(k + ".hazard.kernel", "must be odd, >= 1 and smaller than the layer size");
@@ -288,14 +298,18 @@ void validate(const Config& c) {
   if (!(c.rules.ccm.max_std_ratio >= 0)) invalid("rules.ccm.max_std_ratio", "must be >= 0");
   if (!(c.hazard.max_slope_deg > 0 && c.hazard.max_slope_deg < 90))
     invalid("hazard.max_slope_deg", "must be in (0, 90)");
-  if (!(c.hazard.wheelbase_m > 0)) invalid("hazard.wheelbase", "must be > 0");
+  // Both become a reach in cells (radius / resolution, converted to int): 100 m is beyond
+  // any rover and keeps that reach within int at the finest resolution accepted (1e-4 m).
+  if (!(c.hazard.wheelbase_m > 0 && c.hazard.wheelbase_m <= 100))
+    invalid("hazard.wheelbase", "must be in (0, 100] m (a reach in cells must fit an int)");
   if (!(c.hazard.min_kernel_fill >= 0 && c.hazard.min_kernel_fill <= 1))
     invalid("hazard.min_kernel_fill", "must be in [0, 1]");
   if (!(c.hazard.k_sigma >= 0 && c.hazard.k_sigma <= 100)) invalid("hazard.k_sigma", "must be in [0, 100]");
   if (!std::isfinite(c.hazard.critical_height_m) || c.hazard.critical_height_m == 0)
     invalid("hazard.critical_height", "must be > 0 (or < 0 to use the finest layer's h_min)");
-  if (!std::isfinite(c.hazard.footprint_radius_m))
-    invalid("hazard.footprint_radius", "must be finite (< 0: wheelbase / 2)");
+  if (!(std::isfinite(c.hazard.footprint_radius_m) && c.hazard.footprint_radius_m <= 100))
+    invalid("hazard.footprint_radius",
+            "must be finite and <= 100 m, a reach in cells must fit an int (< 0: wheelbase / 2)");
   if (!(c.hazard.fused_extent_m >= 0 && c.hazard.fused_extent_m < 1e4))
     invalid("hazard.fused_extent", "must be in [0, 1e4) m (0: the largest layer's extent)");
   if (!std::isfinite(c.stereo.max_below_ground_m))

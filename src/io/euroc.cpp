@@ -71,6 +71,8 @@ std::vector<StampedPose> read_pose_csv(const fs::path& path) {
       if (end == fields[static_cast<size_t>(i) + 1].c_str())
         throw fail("field " + std::to_string(i + 2) + " is not a number");
     }
+    const std::string position = check_position(v[0], v[1], v[2]);
+    if (!position.empty()) throw fail(position);
     pose.p = Eigen::Vector3d(v[0], v[1], v[2]);
     pose.q = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);  // file order qw qx qy qz
     if (std::abs(pose.q.norm() - 1.0) > 1e-3)

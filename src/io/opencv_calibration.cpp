@@ -1,5 +1,8 @@
 #include "hazmap/io/opencv_calibration.hpp"
 
+#include <cmath>
+#include <cstdio>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -57,8 +60,25 @@ std::vector<double> distortion(const cv::Mat& m, const std::filesystem::path& pa
   return std::vector<double>(m.ptr<double>(), m.ptr<double>() + n);
 }
 
-int read_int(const cv::FileNode& node) {
-  return node.isInt() ? static_cast<int>(node) : static_cast<int>(static_cast<double>(node));
+/// An image dimension: a whole number of pixels in [1, kMaxImageSidePx], range-checked
+/// before the conversion to int (a double beyond int's range is undefined to convert).
+constexpr double kMaxImageSidePx = 1e6;
+
+int image_side(double v, const std::filesystem::path& path, const std::string& key) {
+  if (!(v >= 1 && v <= kMaxImageSidePx) || v != std::floor(v)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "expected a whole number of pixels in [1, 1000000], found %g",
+                  v);
+    fail(path, key, text);
+  }
+  return static_cast<int>(v);
+}
+
+int read_int(const cv::FileNode& node, const std::filesystem::path& path, const std::string& key) {
+  if (!node.isInt() && !node.isReal()) fail(path, key, "expected a number of pixels");
+  return image_side(node.isInt() ? static_cast<double>(static_cast<int>(node))
+                                 : static_cast<double>(node),
+                    path, key);
 }
 
 }  // namespace
@@ -92,18 +112,19 @@ StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& pa
   c.image_width = options.image_width;
   c.image_height = options.image_height;
   if (!fs["image_width"].empty() && !fs["image_height"].empty()) {
-    c.image_width = read_int(fs["image_width"]);
-    c.image_height = read_int(fs["image_height"]);
+    c.image_width = read_int(fs["image_width"], path, "image_width");
+    c.image_height = read_int(fs["image_height"], path, "image_height");
   } else {
     for (const char* key : {"imageSize", "image_size"}) {
       const cv::FileNode node = fs[key];
       if (node.empty()) continue;
       std::vector<int> size;
       if (node.isSeq()) {
-        for (const auto& item : node) size.push_back(read_int(item));
+        for (const auto& item : node) size.push_back(read_int(item, path, key));
       } else {
         const cv::Mat m = read_matrix(fs, path, key);
-        for (size_t i = 0; i < m.total(); ++i) size.push_back(static_cast<int>(m.at<double>(static_cast<int>(i))));
+        for (size_t i = 0; i < m.total(); ++i)
+          size.push_back(image_side(m.at<double>(static_cast<int>(i)), path, key));
       }
       if (size.size() != 2) fail(path, key, "expected [width, height]");
       c.image_width = size[0];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -32,6 +33,20 @@ std::map<std::string, fs::path> list_images(const fs::path& dir) {
 }
 
 }  // namespace
+
+std::string check_position(double x_m, double y_m, double z_m) {
+  const double v[3] = {x_m, y_m, z_m};
+  for (int i = 0; i < 3; ++i)
+    if (!(std::abs(v[i]) <= kMaxPositionM)) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "position %c = %g m is implausible: |x|, |y|, |z| must be <= 1e7 m "
+                    "(10 000 km, beyond any traverse)",
+                    "xyz"[i], v[i]);
+      return text;
+    }
+  return {};
+}
 
 std::vector<std::pair<std::string, FramePose>> parse_poses(const std::string& text,
                                                            const std::string& source) {
@@ -70,6 +85,8 @@ std::vector<std::pair<std::string, FramePose>> parse_poses(const std::string& te
       throw fail("quaternion of frame '" + name + "' is not a unit quaternion (norm " +
                  std::to_string(q.norm()) + ")");
     pose.T_W_B.linear() = q.normalized().toRotationMatrix();
+    const std::string position = check_position(v[1], v[2], v[3]);
+    if (!position.empty()) throw fail("frame '" + name + "': " + position);
     pose.T_W_B.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
     if (tokens.size() == 13) {
       for (int i = 8; i < 12; ++i)

@@ -74,6 +74,13 @@ LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, const Haz
 }
 
 void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise& noise) {
+  // Checked for every layer before any layer moves, so a rejected pose changes nothing.
+  for (std::size_t i = 0; i < layers_.size(); ++i) {
+    const double r = layers_[i]->grid().resolution_m();
+    if (!position_in_range(robot_x_m, r) || !position_in_range(robot_y_m, r))
+      throw Error(robot_position_error(robot_x_m, robot_y_m, r) + " (layer " + std::to_string(i) +
+                  ")");
+  }
   if (started_) ++frame_;
   started_ = true;
   robot_x_m_ = robot_x_m;

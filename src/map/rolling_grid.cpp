@@ -1,6 +1,7 @@
 #include "hazmap/map/rolling_grid.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "hazmap/core/error.hpp"
@@ -22,7 +23,22 @@ RollingGrid::RollingGrid(int size, double resolution_m) : size_(size), resolutio
   check(resolution_m > 0, "rolling grid: resolution must be positive");
 }
 
+std::string robot_position_error(double x_m, double y_m, double resolution_m) {
+  const bool x_bad = !position_in_range(x_m, resolution_m);
+  const double v = x_bad ? x_m : y_m;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "map: robot position %s = %g m is %g cells of a %g m layer: |%s / resolution| "
+                "must stay below 2^30 cells (a pose far outside any traverse, or a bad pose file)",
+                x_bad ? "x" : "y", v, v / resolution_m, resolution_m, x_bad ? "x" : "y");
+  return text;
+}
+
 NewRegions RollingGrid::move_to(double x_m, double y_m) {
+  // Before any index arithmetic: llround / floor of a value beyond int64 is undefined and
+  // gave an origin near INT64_MIN (a map centred at -9.2e16 m, exit 0).
+  if (!position_in_range(x_m, resolution_m_) || !position_in_range(y_m, resolution_m_))
+    throw Error(robot_position_error(x_m, y_m, resolution_m_));
   NewRegions out;
   const CellIndex n = size_;
   if (!placed_) {

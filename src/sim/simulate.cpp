@@ -401,7 +401,9 @@ void validate(const SimulationOptions& options) {
         "simulate: ground_truth_resolution_m must be positive");
   check(options.ground_truth_margin_m >= 0.0 && options.ground_truth_margin_m <= 50.0,
         "simulate: ground_truth_margin_m must be in [0, 50]");
-  check(options.terrain_size_m > 0.0, "simulate: terrain_size_m must be positive");
+  // Nodes per side (size / terrain_resolution_m) are converted to int: bounded first.
+  check(options.terrain_size_m > 0.0 && options.terrain_size_m <= 1000.0,
+        "simulate: terrain_size_m (--terrain-size) must be in (0, 1000] m");
   check(options.png_compression >= 0 && options.png_compression <= 9,
         "simulate: png_compression must be in [0, 9]");
   check(options.wheels.wheelbase_m > 0.0 && options.wheels.wheelbase_m <= 10.0 &&

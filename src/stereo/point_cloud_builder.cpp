@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+
+#include "hazmap/core/error.hpp"
 
 namespace hazmap {
 
@@ -20,6 +23,7 @@ PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorCon
       geometry_(geometry),
       roi_(valid_roi),
       roi_right_(valid_roi_right) {
+  check(stereo.stride >= 1, "stereo.stride must be >= 1");
   Pose3d T_C_Cr = Pose3d::Identity();
   T_C_Cr.linear() = R1.transpose();
   T_B_Cr_ = T_B_C * T_C_Cr;
@@ -71,9 +75,15 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
   const double tolerance_z = -stereo_.below_ground_tolerance_m - T_B_Cr_.translation().z();
   const double tan_wall = std::tan(stereo_.max_depression_slope_deg * M_PI / 180.0);
   std::size_t below_ground = 0;
-  for (int v = roi.y; v < roi.y + roi.height; v += step) {
+  // 64-bit counters: `u += step` in int overflows (UB, a crash) for a stride near INT_MAX
+  // when the roi starts at x > 0; config validation bounds the stride too.
+  const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
+  const std::int64_t u_end = std::int64_t{roi.x} + roi.width;
+  for (std::int64_t vv = roi.y; vv < v_end; vv += step) {
+    const int v = static_cast<int>(vv);
     const int16_t* row = disparity_x16.ptr<int16_t>(v);
-    for (int u = roi.x; u < roi.x + roi.width; u += step) {
+    for (std::int64_t uu = roi.x; uu < u_end; uu += step) {
+      const int u = static_cast<int>(uu);
       const int d16 = row[u];
       if (d16 <= invalid_below_x16 || d16 <= 0) continue;
       const double d = d16 / 16.0;

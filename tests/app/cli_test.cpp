@@ -122,6 +122,71 @@ TEST(Cli, BadConfigKeyIsNamed) {
   EXPECT_NE(r.output.find("unknown key 'stereo.colour'"), std::string::npos) << r.output;
 }
 
+// Issue 24, class "crash" and "wrong map with exit 0": each of these inputs stops the run
+// with one line naming the file and line or the key, exit 1, and no frame written.
+TEST(Cli, OverflowingPosesResolutionsAndStridesStopWithOneLine) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 2);
+  const auto poses = dir / "seq/poses.txt";
+  std::ofstream(poses) << "000000 0 0 0 0 0 0 0 1\n000001 1 1e300 0 0 0 0 0 1\n";
+  CommandResult r = run_cli(tiny_run_args(dir));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find(poses.string() + ":2: frame '000001': position x = 1e+300 m is "
+                                           "implausible"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/frames"));
+
+  // A plausible position that is still beyond 2^30 cells of a 1 mm layer: refused by the
+  // map, not turned into an index.
+  std::ofstream(poses) << "000000 0 9e6 0 0 0 0 0 1\n000001 1 9e6 0 0 0 0 0 1\n";
+  r = run_cli(tiny_run_args(dir) + " --quiet --set map.layers.0.resolution=0.001");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "seq/left/000000.png").string() +
+                          ": map: robot position x = 9e+06 m is 9e+09 cells of a 0.001 m layer"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/frames/000000/L0_height.jdem"));
+
+  testing::write_tiny_sequence(dir / "seq", 2);
+  r = run_cli(tiny_run_args(dir) + " --set map.layers.0.resolution=1e-300");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("key 'map.layers.0.resolution': must be in [1e-4, 1000] m"),
+            std::string::npos)
+      << r.output;
+  r = run_cli(tiny_run_args(dir) + " --set stereo.stride=2147483647");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("key 'stereo.stride': must be in [1, 4096]"), std::string::npos)
+      << r.output;
+}
+
+// Issue 24, class "memory errors": parse_board read strtol's end pointers after the
+// substrings they pointed into were destroyed (ASan: stack-use-after-scope). The board is
+// parsed before the images are looked at, so a missing images folder shows how far it got.
+TEST(Cli, CalibrateBoardIsParsedFromLiveStrings) {
+  testing::TempDir dir;
+  const std::string rest = " --square 0.025 --out " + (dir / "c.yaml").string() +
+                           " --images " + (dir / "none").string();
+  for (const char* board : {"9x6", "00000000000000000000009x00000000000000000000006", "100x2"}) {
+    const CommandResult r = run_cli(std::string("calibrate --board ") + board + rest);
+    EXPECT_EQ(r.exit_code, 1) << board << ": " << r.output;  // past the board, at the images
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_EQ(r.output.find("--board"), std::string::npos) << r.output;
+  }
+  for (const char* board : {"9x6junk", "9junkx6", "x6", "9x", "9", "1x6", "9x101", "9x6x2",
+                            "00000000000000000000009x0000000000000000000000junk"}) {
+    const CommandResult r = run_cli(std::string("calibrate --board ") + board + rest);
+    EXPECT_EQ(r.exit_code, 2) << board << ": " << r.output;
+    EXPECT_EQ(r.output, std::string("hazmap: --board ") + board +
+                            ": expected inner corners as WxH, e.g. 9x6 (see hazmap --help)\n");
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "c.yaml"));
+}
+
 }  // namespace
 }  // namespace hazmap
 

@@ -153,5 +153,43 @@ TEST(CalibrationFile, OpenCvSplitFilesAndErrors) {
             std::string::npos);
 }
 
+// Issue 24: an image size of 1e300 was converted to int unchecked (undefined); it is now
+// range-checked first and named with the file and key.
+TEST(CalibrationFile, OpenCvImageSizeIsRangeCheckedBeforeTheConversion) {
+  testing::TempDir dir;
+  const StereoCalibration c = example();
+  auto rewrite = [&](bool size_as_list, const std::string& from, const std::string& to) {
+    write_opencv(dir / "stereo.yml", c, false, size_as_list);
+    std::ifstream in(dir / "stereo.yml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << text;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    std::ofstream(dir / "stereo.yml") << text;
+  };
+  auto message = [&] {
+    try {
+      load_opencv_stereo_calibration(dir / "stereo.yml");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string file = (dir / "stereo.yml").string();
+  rewrite(false, "image_width: 752", "image_width: 1.0e+300");
+  EXPECT_EQ(message(), file + ": key 'image_width': expected a whole number of pixels in "
+                              "[1, 1000000], found 1e+300");
+  rewrite(false, "image_height: 480", "image_height: -3.0e+10");
+  EXPECT_EQ(message(), file + ": key 'image_height': expected a whole number of pixels in "
+                              "[1, 1000000], found -3e+10");
+  rewrite(false, "image_width: 752", "image_width: 752.5");
+  EXPECT_NE(message().find("key 'image_width': expected a whole number"), std::string::npos);
+  rewrite(true, "752", "7.52e+300");
+  EXPECT_EQ(message(), file + ": key 'imageSize': expected a whole number of pixels in "
+                              "[1, 1000000], found 7.52e+300");
+  rewrite(false, "image_width: 752", "image_width: 752.0");  // a whole real is fine
+  EXPECT_EQ(message(), "");
+}
+
 }  // namespace
 }  // namespace hazmap

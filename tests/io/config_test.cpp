@@ -142,5 +142,35 @@ TEST(Config, EveryShippedConfigLoadsAndMatchesTheThesisTables) {
   for (const auto& l : ccm.map.layers) EXPECT_NEAR(l.hazard.h_min_m, 0.75 * l.resolution_m, 1e-12);
 }
 
+// Issue 24: values that become loop steps, indices or sizes are bounded, with the reason.
+TEST(Config, StrideResolutionAndLayerSizeAreBounded) {
+  // stride 2^31 - 1 overflowed the pixel loop's `u += step` and crashed the run.
+  EXPECT_EQ(config_error(kMinimal, {"stereo.stride=2147483647"}),
+            "config: key 'stereo.stride': must be in [1, 4096] (a larger stride keeps at most "
+            "one pixel of a 4096 px image)");
+  EXPECT_EQ(config_error(kMinimal, {"stereo.stride=4096"}), "");
+  // 1e-300 m made llround(x / r) overflow in the rolling grid.
+  for (const char* r : {"1e-300", "0.00005", "1e300", "2000", "0", "-0.01"}) {
+    const std::string msg = config_error(
+        "map:\n  layers:\n    - {resolution: " + std::string(r) + ", size: 8, rule: kalman}\n");
+    EXPECT_EQ(msg.rfind("config: key 'map.layers.0.resolution': must be in [1e-4, 1000] m", 0), 0u)
+        << r << ": " << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  EXPECT_EQ(config_error("map:\n  layers:\n    - {resolution: 0.0001, size: 8, rule: kalman}\n"),
+            "");
+  // Radii become a reach in cells (radius / r as int): 1e300 overflowed the conversion.
+  EXPECT_EQ(config_error(kMinimal, {"hazard.footprint_radius=1e300"}),
+            "config: key 'hazard.footprint_radius': must be finite and <= 100 m, a reach in cells "
+            "must fit an int (< 0: wheelbase / 2)");
+  EXPECT_EQ(config_error(kMinimal, {"hazard.wheelbase=1e300"}),
+            "config: key 'hazard.wheelbase': must be in (0, 100] m (a reach in cells must fit an "
+            "int)");
+  // 46342^2 cells do not fit the layers' int slots (46341 is odd, already refused).
+  EXPECT_EQ(config_error("map:\n  layers:\n    - {resolution: 0.01, size: 46342, rule: kalman}\n"),
+            "config: key 'map.layers.0.size': must be <= 46340 (a layer's size^2 cells are "
+            "addressed with 32-bit indices)");
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -86,5 +86,21 @@ TEST(Sequence, FrameRangesSelectLikePythonSlices) {
   EXPECT_THROW(select_frames(frames, "x:1"), Error);
 }
 
+// Issue 24: x = 1e300 went on to overflow the map's cell indices (a map centred at
+// -9.2e16 m, exit 0); the pose file's line now says why it is refused.
+TEST(Sequence, ImplausiblePositionIsNamedWithFileAndLine) {
+  try {
+    parse_poses("a 0 0 0 0 0 0 0 1\nb 1 1e300 0 0 0 0 0 1\n", "poses.txt");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "poses.txt:2: frame 'b': position x = 1e+300 m is implausible: |x|, |y|, |z| must "
+              "be <= 1e7 m (10 000 km, beyond any traverse)");
+  }
+  EXPECT_THROW(parse_poses("a 0 0 -2e7 0 0 0 0 1\n", "p"), Error);
+  EXPECT_THROW(parse_poses("a 0 0 0 1e8 0 0 0 1\n", "p"), Error);
+  EXPECT_NO_THROW(parse_poses("a 0 1e7 -1e7 1e7 0 0 0 1\n", "p"));
+}
+
 }  // namespace
 }  // namespace hazmap

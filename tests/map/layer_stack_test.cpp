@@ -332,5 +332,25 @@ TEST(LayerStack, CcmLayerExportsPlaneGrids) {
     }
 }
 
+// Issue 24: the pose enters the map in begin_frame; a position beyond 2^30 cells of any
+// layer is refused there, naming the layer, before any layer has moved.
+TEST(LayerStack, PositionBeyondTheCellLimitIsRefusedBeforeAnyLayerMoves) {
+  LayerStack s(stack(RuleKind::kalman, "all_layers", {{0.01, 8}, {0.04, 8}}), uncapped());
+  s.begin_frame(0.5, 0.5);
+  const double x0 = s.layer(0).grid().center_x_m(), x1 = s.layer(1).grid().center_x_m();
+  // 2e7 m: within 2^30 cells of the 4 cm layer (5e8), not of the 1 cm one (2e9).
+  try {
+    s.begin_frame(2e7, 0.5);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "map: robot position x = 2e+07 m is 2e+09 cells of a 0.01 m layer: |x / "
+              "resolution| must stay below 2^30 cells (a pose far outside any traverse, or a "
+              "bad pose file) (layer 0)");
+  }
+  EXPECT_EQ(s.layer(0).grid().center_x_m(), x0);
+  EXPECT_EQ(s.layer(1).grid().center_x_m(), x1);
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -1,10 +1,13 @@
 #include "hazmap/map/rolling_grid.hpp"
 
+#include <cmath>
 #include <map>
+#include <string>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "hazmap/core/error.hpp"
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/bananas.hpp"
 
@@ -138,6 +141,38 @@ TEST(RollingLayer, JumpLargerThanTheWindowClearsEverything) {
   layer.begin_frame(100, 0, 0);
   layer.begin_frame(0, 0, 0);
   EXPECT_TRUE(std::isnan(BananasRule::height(layer.cell(0, 0))));
+}
+
+// Issue 24: x = 1e300 (or a resolution of 1e-300) made llround(x / r) overflow to
+// INT64_MIN and the map was written centred at -9.2e16 m with exit 0. The position is
+// refused before any index arithmetic, naming the value and the 2^30-cell limit.
+TEST(RollingGrid, PositionBeyondTwoToTheThirtyCellsIsRefused) {
+  auto message = [](RollingGrid& g, double x, double y) {
+    try {
+      g.move_to(x, y);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  RollingGrid g(8, 0.01);
+  EXPECT_EQ(message(g, 1e300, 0.0),
+            "map: robot position x = 1e+300 m is 1e+302 cells of a 0.01 m layer: |x / "
+            "resolution| must stay below 2^30 cells (a pose far outside any traverse, or a bad "
+            "pose file)");
+  EXPECT_FALSE(g.placed());
+  EXPECT_NE(message(g, 0.0, -1.1e7).find("robot position y = -1.1e+07 m"), std::string::npos);
+  EXPECT_NE(message(g, std::nan(""), 0.0), "");
+  EXPECT_NE(message(g, 0.0, HUGE_VAL), "");
+  RollingGrid tiny(8, 1e-300);
+  EXPECT_NE(message(tiny, 1.0, 0.0).find("must stay below 2^30 cells"), std::string::npos);
+  // Within the limit: placed, and the centre is where the robot is.
+  EXPECT_EQ(message(g, 1e7, -1e7), "");
+  EXPECT_NEAR(g.center_x_m(), 1e7, 0.01);
+  EXPECT_NEAR(g.center_y_m(), -1e7, 0.01);
+  // After placement too (the follow path uses floor, not llround).
+  EXPECT_NE(message(g, 1e300, 0.0), "");
+  EXPECT_NEAR(g.center_x_m(), 1e7, 0.01);
 }
 
 }  // namespace

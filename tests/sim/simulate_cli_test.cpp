@@ -68,5 +68,34 @@ TEST(SimulateCli, BadValuesAreNamed) {
   EXPECT_FALSE(fs::exists(dir / "seq"));
 }
 
+// Issue 24: --frames, --seed and --samples were cast to int / uint64 unchecked (undefined
+// for 1e300 or -1); each is now a whole number in its range, named on one line, exit 2.
+TEST(SimulateCli, IntegerFlagsAreRangeCheckedBeforeTheCast) {
+  testing::TempDir dir;
+  const std::string out = " --out " + (dir / "seq").string();
+  const struct {
+    const char* args;
+    const char* message;
+  } cases[] = {
+      {"--frames 1e300", "--frames: '1e300' is not a whole number in [1, 100000]"},
+      {"--frames -5", "--frames: '-5' is not a whole number in [1, 100000]"},
+      {"--frames 2.5", "--frames: '2.5' is not a whole number in [1, 100000]"},
+      {"--frames nan", "--frames: 'nan' is not a whole number in [1, 100000]"},
+      {"--seed -1", "--seed: '-1' is not a whole number in [0, 9007199254740992]"},
+      {"--seed 1e300", "--seed: '1e300' is not a whole number in [0, 9007199254740992]"},
+      {"--samples 1e10", "--samples: '1e10' is not a whole number in [1, 8]"},
+  };
+  for (const auto& c : cases) {
+    const CommandResult r = simulate(std::string(c.args) + out);
+    EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.output;
+    EXPECT_EQ(r.output, std::string("hazmap: ") + c.message + " (see hazmap --help)\n");
+  }
+  const CommandResult r = simulate("--terrain-size 1e300 --quiet" + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output,
+            "hazmap: error: simulate: terrain_size_m (--terrain-size) must be in (0, 1000] m\n");
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -209,5 +209,26 @@ TEST(PointCloudBuilder, DropsPointsBelowTheToleranceAlongSteepRays) {
   EXPECT_EQ(cloud.size(), kept + steep);
 }
 
+// Issue 24: a stride near INT_MAX with a region starting at x >= 1 overflowed `u += step`
+// (undefined; a segfault in Release). Each row and column of the region now gives its first
+// pixel only.
+TEST(PointCloudBuilder, HugeStrideTakesTheRegionsFirstPixelWithoutOverflow) {
+  StereoConfig stereo;
+  stereo.stride = 2147483647;
+  stereo.roi_px = {1, 2, 60, 40};
+  stereo.z_min_m = 0.1;
+  stereo.z_max_m = 100.0;
+  SensorConfig sensor;
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, Eigen::Matrix3d::Identity(),
+                                  Pose3d::Identity(), cv::Rect(0, 0, 64, 48));
+  cv::Mat disparity(48, 64, CV_16S, cv::Scalar(160));
+  PointCloud cloud;
+  std::vector<cv::Point> pixels;
+  builder.build(disparity, 0, Pose3d::Identity(), cloud, pixels);
+  ASSERT_EQ(pixels.size(), 1u);
+  EXPECT_EQ(pixels[0], cv::Point(1, 2));
+  EXPECT_EQ(cloud.size(), 1u);
+}
+
 }  // namespace
 }  // namespace hazmap

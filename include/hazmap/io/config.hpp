@@ -12,6 +12,9 @@
 
 namespace hazmap {
 
+/// Largest stereo.stride validate() accepts (pixels).
+constexpr int kMaxStride = 4096;
+
 struct StereoConfig {
   std::string matcher = "bm";       ///< bm | sgbm
   int num_disparities = 128;        ///< multiple of 16
@@ -32,7 +35,7 @@ struct StereoConfig {
   /// 8 bit); 0 detects them per pair from the brighter image. Ignored for 8-bit input.
   int input_bits = 0;
   double rectify_alpha = 0.0;
-  int stride = 1;                   ///< use every stride-th pixel in u and v
+  int stride = 1;                   ///< use every stride-th pixel in u and v (<= kMaxStride)
   /// Region of interest in the rectified left image, pixels: x, y, width, height.
   /// width or height 0: the whole image. Pixels outside produce no points.
   std::array<int, 4> roi_px{0, 0, 0, 0};

@@ -15,6 +15,14 @@
 
 namespace hazmap {
 
+/// Largest |x|, |y|, |z| (m) a pose file may give: 10 000 km, beyond any traverse on a
+/// planet's surface. A larger position (1e300, say) is a corrupt file, and would overflow
+/// the map's cell indices.
+constexpr double kMaxPositionM = 1e7;
+
+/// Empty when |x|, |y|, |z| <= kMaxPositionM, otherwise the one-line reason (no source).
+std::string check_position(double x_m, double y_m, double z_m);
+
 struct FramePose {
   double t_s = 0.0;
   Pose3d T_W_B = Pose3d::Identity();

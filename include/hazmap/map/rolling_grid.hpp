@@ -5,6 +5,8 @@
 // cells of the regions that entered, nothing else is copied.
 
 #include <array>
+#include <cmath>
+#include <string>
 
 #include "hazmap/map/grid_math.hpp"
 
@@ -15,6 +17,15 @@ struct CellRange {
   CellIndex x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   bool empty() const { return x0 >= x1 || y0 >= y1; }
 };
+
+/// True when a robot coordinate is finite and within kMaxRobotCells cells of W's origin
+/// in a layer of this resolution (RollingGrid::move_to throws otherwise).
+inline bool position_in_range(double x_m, double resolution_m) {
+  return std::abs(x_m / resolution_m) < kMaxRobotCells;  // false for NaN and inf
+}
+
+/// One-line message for a robot position that fails position_in_range.
+std::string robot_position_error(double x_m, double y_m, double resolution_m);
 
 /// The regions that entered the window in one move (at most two strips).
 struct NewRegions {
