@@ -54,6 +54,7 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
   const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
   const Eigen::Matrix3d R = T_W_Cr.linear();
   const Eigen::Vector3d t = T_W_Cr.translation();
+  const Eigen::Vector3d axis_W = R.col(2);  // the rectified optical axis in W
   const double fb = geometry_.focal_px * geometry_.baseline_m;
   // Disparity bounds equivalent to the depth gate, so the gate costs one compare.
   const double d_min = fb / stereo_.z_max_m, d_max = fb / stereo_.z_min_m;
@@ -100,21 +101,31 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
         ++below_ground;
         continue;
       }
-      const Eigen::Matrix3d cov_C =
-          model_ == SensorModel::axis
-              ? covariance_axis(geometry_, p_C.z(), sensor_.pointing_error_px,
-                                sensor_.disparity_error_px)
-              : covariance_ray(geometry_, u, v, d, sensor_.pointing_error_px,
-                               sensor_.disparity_error_px);
-      const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
       Measurement m{};
       m.p_W = (R * p_C + t).cast<float>();
-      m.cov_xx = static_cast<float>(cov_W(0, 0));
-      m.cov_xy = static_cast<float>(cov_W(0, 1));
-      m.cov_xz = static_cast<float>(cov_W(0, 2));
-      m.cov_yy = static_cast<float>(cov_W(1, 1));
-      m.cov_yz = static_cast<float>(cov_W(1, 2));
-      m.cov_zz = static_cast<float>(cov_W(2, 2));
+      if (model_ == SensorModel::axis) {
+        // diag(a, a, b) rotated into W is a I + (b - a) c c^T, c = R's third column (the
+        // optical axis in W): no matrix products per point.
+        const AxisVariances var = axis_variances(geometry_, p_C.z(), sensor_.pointing_error_px,
+                                                 sensor_.disparity_error_px);
+        const double a = var.lateral_m2, k = var.depth_m2 - a;
+        m.cov_xx = static_cast<float>(a + k * axis_W.x() * axis_W.x());
+        m.cov_xy = static_cast<float>(k * axis_W.x() * axis_W.y());
+        m.cov_xz = static_cast<float>(k * axis_W.x() * axis_W.z());
+        m.cov_yy = static_cast<float>(a + k * axis_W.y() * axis_W.y());
+        m.cov_yz = static_cast<float>(k * axis_W.y() * axis_W.z());
+        m.cov_zz = static_cast<float>(a + k * axis_W.z() * axis_W.z());
+      } else {
+        const Eigen::Matrix3d cov_C = covariance_ray(geometry_, u, v, d, sensor_.pointing_error_px,
+                                                     sensor_.disparity_error_px);
+        const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
+        m.cov_xx = static_cast<float>(cov_W(0, 0));
+        m.cov_xy = static_cast<float>(cov_W(0, 1));
+        m.cov_xz = static_cast<float>(cov_W(0, 2));
+        m.cov_yy = static_cast<float>(cov_W(1, 1));
+        m.cov_yz = static_cast<float>(cov_W(1, 2));
+        m.cov_zz = static_cast<float>(cov_W(2, 2));
+      }
       cloud.push_back(m);
       if (pixels) pixels->emplace_back(u, v);
     }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <set>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -85,32 +86,38 @@ TEST(PointCloudBuilder, PointAndRayCovarianceGoThroughR1AndTheBodyPose) {
   StereoConfig stereo;
   stereo.z_min_m = 0.01;
   stereo.z_max_m = 100;
-  SensorConfig sensor;
-  sensor.model = "ray";
-  const Eigen::Matrix3d R1 =
-      Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
-  Pose3d T_B_C = Pose3d::Identity();
-  T_B_C.linear() = rotation_from_rpy(-M_PI / 2, 0.3, -M_PI / 2);
-  T_B_C.translation() = Eigen::Vector3d(0.1, 0.02, 0.3);
-  Pose3d T_W_B = Pose3d::Identity();
-  T_W_B.linear() = rotation_from_rpy(0.02, -0.01, 1.2);
-  T_W_B.translation() = Eigen::Vector3d(3, -2, 0.5);
-  const PointCloudBuilder builder(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
-  cv::Mat d(48, 64, CV_16S, cv::Scalar(-16));
-  d.at<int16_t>(30, 12) = 16 * 20 + 5;
-  PointCloud cloud;
-  builder.build(d, 0, T_W_B, cloud);
-  ASSERT_EQ(cloud.size(), 1u);
-  const double disp = 20 + 5.0 / 16;
-  const Eigen::Matrix3d R_W_Cr = T_W_B.linear() * T_B_C.linear() * R1.transpose();
-  const Eigen::Vector3d p_W = T_W_B * (T_B_C * (R1.transpose() * triangulate(kGeometry, 12, 30, disp)));
-  EXPECT_LT((cloud[0].p_W.cast<double>() - p_W).norm(), 1e-6);
-  const Eigen::Matrix3d cov = R_W_Cr * covariance_ray(kGeometry, 12, 30, disp, 0.5, 0.25) *
-                              R_W_Cr.transpose();
-  const float got[6] = {cloud[0].cov_xx, cloud[0].cov_xy, cloud[0].cov_xz,
-                        cloud[0].cov_yy, cloud[0].cov_yz, cloud[0].cov_zz};
-  const double want[6] = {cov(0, 0), cov(0, 1), cov(0, 2), cov(1, 1), cov(1, 2), cov(2, 2)};
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], 1e-6 * cov.norm()) << i;
+  for (const std::string model : {"axis", "ray"}) {
+    SensorConfig sensor;
+    sensor.model = model;
+    const Eigen::Matrix3d R1 =
+        Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
+    Pose3d T_B_C = Pose3d::Identity();
+    T_B_C.linear() = rotation_from_rpy(-M_PI / 2, 0.3, -M_PI / 2);
+    T_B_C.translation() = Eigen::Vector3d(0.1, 0.02, 0.3);
+    Pose3d T_W_B = Pose3d::Identity();
+    T_W_B.linear() = rotation_from_rpy(0.02, -0.01, 1.2);
+    T_W_B.translation() = Eigen::Vector3d(3, -2, 0.5);
+    const PointCloudBuilder builder(stereo, sensor, kGeometry, R1, T_B_C, cv::Rect(0, 0, 64, 48));
+    cv::Mat d(48, 64, CV_16S, cv::Scalar(-16));
+    d.at<int16_t>(30, 12) = 16 * 20 + 5;
+    PointCloud cloud;
+    builder.build(d, 0, T_W_B, cloud);
+    ASSERT_EQ(cloud.size(), 1u);
+    const double disp = 20 + 5.0 / 16;
+    const Eigen::Matrix3d R_W_Cr = T_W_B.linear() * T_B_C.linear() * R1.transpose();
+    const Eigen::Vector3d p_W = T_W_B * (T_B_C * (R1.transpose() * triangulate(kGeometry, 12, 30, disp)));
+    EXPECT_LT((cloud[0].p_W.cast<double>() - p_W).norm(), 1e-6);
+    // The reference rotates the camera-frame covariance with two matrix products (the
+    // builder uses the closed form a I + (b - a) c c^T for the axis model).
+    const Eigen::Matrix3d cov_C = model == "axis"
+                                      ? covariance_axis(kGeometry, triangulate(kGeometry, 12, 30, disp).z(), 0.5, 0.25)
+                                      : covariance_ray(kGeometry, 12, 30, disp, 0.5, 0.25);
+    const Eigen::Matrix3d cov = R_W_Cr * cov_C * R_W_Cr.transpose();
+    const float got[6] = {cloud[0].cov_xx, cloud[0].cov_xy, cloud[0].cov_xz,
+                          cloud[0].cov_yy, cloud[0].cov_yz, cloud[0].cov_zz};
+    const double want[6] = {cov(0, 0), cov(0, 1), cov(0, 2), cov(1, 1), cov(1, 2), cov(2, 2)};
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], 1e-6 * cov.norm()) << i;
+  }
 }
 
 // SPEC 3.3: a point more than max_below_ground below the body's wheel plane (z_B = 0) is

@@ -26,11 +26,21 @@ inline Eigen::Vector3d triangulate(const StereoGeometry& g, double u, double v, 
 }
 
 /// The thesis' model: independent lateral error p Z / f and depth error Z^2 m / (f B).
-inline Eigen::Matrix3d covariance_axis(const StereoGeometry& g, double z_m, double pointing_px,
-                                       double matching_px) {
+/// The axis model's two variances: lateral (p Z / f)^2 and depth (Z^2 m / (f B))^2 [m^2].
+struct AxisVariances {
+  double lateral_m2, depth_m2;
+};
+inline AxisVariances axis_variances(const StereoGeometry& g, double z_m, double pointing_px,
+                                    double matching_px) {
   const double lateral = pointing_px * z_m / g.focal_px;
   const double depth = z_m * z_m * matching_px / (g.focal_px * g.baseline_m);
-  return Eigen::Vector3d(lateral * lateral, lateral * lateral, depth * depth).asDiagonal();
+  return {lateral * lateral, depth * depth};
+}
+
+inline Eigen::Matrix3d covariance_axis(const StereoGeometry& g, double z_m, double pointing_px,
+                                       double matching_px) {
+  const AxisVariances v = axis_variances(g, z_m, pointing_px, matching_px);
+  return Eigen::Vector3d(v.lateral_m2, v.lateral_m2, v.depth_m2).asDiagonal();
 }
 
 /// First-order propagation of pixel noise (p, p) and disparity noise m through the
