@@ -105,6 +105,7 @@ StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
     throw Error(path.string() + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
   }
   const std::string source = path.string();
+  reject_duplicate_keys(root, source);
   StereoCalibration c;
   YamlMap top(root, "", source);
   top.require("image_width", c.image_width);

@@ -183,6 +183,7 @@ Config parse_config(const std::string& yaml_text, const std::string& source,
   } catch (const YAML::ParserException& e) {
     throw Error(source + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
   }
+  reject_duplicate_keys(root, source);
   for (const auto& assignment : overrides) apply_yaml_override(root, assignment);
 
   Config config;

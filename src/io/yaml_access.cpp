@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <set>
+#include <string>
 
 #include "hazmap/core/error.hpp"
 
@@ -11,6 +13,31 @@ std::string yaml_location(const YAML::Node& node, const std::string& source) {
   const YAML::Mark mark = node.Mark();
   if (mark.line >= 0 && !mark.is_null()) return source + ":" + std::to_string(mark.line + 1) + ": ";
   return source + ": ";
+}
+
+namespace {
+
+void check_duplicates(const YAML::Node& node, const std::string& path, const std::string& source) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      check_duplicates(node[i], path + "." + std::to_string(i), source);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::set<std::string> seen;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<complex key>");
+    const std::string key_path = path.empty() ? key : path + "." + key;
+    if (!seen.insert(key).second)
+      throw Error(yaml_location(kv.first, source) + "duplicate key '" + key_path + "'");
+    check_duplicates(kv.second, key_path, source);
+  }
+}
+
+}  // namespace
+
+void reject_duplicate_keys(const YAML::Node& root, const std::string& source) {
+  check_duplicates(root, "", source);
 }
 
 YamlMap::YamlMap(const YAML::Node& node, std::string path, std::string source)

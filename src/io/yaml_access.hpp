@@ -58,6 +58,10 @@ class YamlMap {
 /// "source:line: " for a node with a mark, "source: " otherwise.
 std::string yaml_location(const YAML::Node& node, const std::string& source);
 
+/// Throws Error naming the file, line and key path of the first key that appears twice in
+/// one map anywhere under `root` (YAML parsers keep one of them silently).
+void reject_duplicate_keys(const YAML::Node& root, const std::string& source);
+
 /// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index.
 void apply_yaml_override(YAML::Node& root, const std::string& assignment);
 

@@ -2,6 +2,7 @@
 // FileStorage stereo files (M1 D1 M2 D2 R T) in YAML and XML.
 
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -91,6 +92,23 @@ void write_opencv(const std::filesystem::path& path, const StereoCalibration& c,
     fs << "imageSize" << "[" << c.image_width << c.image_height << "]";
   } else {
     fs << "image_width" << c.image_width << "image_height" << c.image_height;
+  }
+}
+
+TEST(CalibrationFile, DuplicateKeyIsNamedWithFileAndLine) {
+  testing::TempDir dir;
+  save_stereo_calibration(dir / "calibration.yaml", example());
+  std::ifstream in(dir / "calibration.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::ofstream(dir / "twice.yaml") << text.str() << "image_width: 640\n";
+  try {
+    load_stereo_calibration(dir / "twice.yaml");
+    FAIL() << "a duplicate key was accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find((dir / "twice.yaml").string() + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("duplicate key 'image_width'"), std::string::npos) << msg;
   }
 }
 

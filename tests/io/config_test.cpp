@@ -46,6 +46,20 @@ TEST(Config, UnknownKeyIsNamedWithItsPathAndLine) {
   EXPECT_EQ(msg, "test.yaml:7: unknown key 'stereo.blok_size'");
 }
 
+TEST(Config, DuplicateKeysAreNamedWithTheirPathAndLine) {
+  // A duplicate would otherwise be silently resolved to one of its values.
+  EXPECT_EQ(config_error("stereo:\n  block_size: 9\n  block_size: 11\n"),
+            "test.yaml:3: duplicate key 'stereo.block_size'");
+  EXPECT_EQ(config_error("hazard: {k_sigma: 3}\nhazard: {k_sigma: 0}\n"),
+            "test.yaml:2: duplicate key 'hazard'");
+  EXPECT_NE(config_error("map:\n  layers:\n    - {resolution: 0.01, size: 8, rule: kalman, size: 16}\n")
+                .find("duplicate key 'map.layers.0.size'"),
+            std::string::npos);
+  // The same key in two different maps is no duplicate.
+  EXPECT_NO_THROW(parse_config(
+      std::string(kMinimal) + "rules: {kalman: {gate_sigma: 0}, omg: {gate_sigma: 0}}\n", "t"));
+}
+
 TEST(Config, UnknownKeyInsideALayerIsNamed) {
   const std::string msg =
       config_error("map:\n  layers:\n    - {resolution: 0.01, size: 8, rule: kalman, colour: red}\n");
