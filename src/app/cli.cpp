@@ -23,6 +23,8 @@ std::string Args::get(const std::string& name, const std::string& fallback) cons
 std::string Args::required(const std::string& name) const {
   const auto it = values.find(name);
   if (it == values.end()) throw UsageError("missing required option --" + name);
+  // An empty path would mean the current folder (measured: --out '' wrote there).
+  if (it->second.empty()) throw UsageError("--" + name + ": empty value");
   return it->second;
 }
 

@@ -1,6 +1,7 @@
 #include "hazmap/io/config.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -205,6 +206,9 @@ Config parse_config(const std::string& yaml_text, const std::string& source,
 }
 
 Config load_config(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+  // A folder opens as an empty stream on Linux and would read as an empty config.
+  if (std::filesystem::is_directory(path))
+    throw Error(path.string() + ": is a folder, not a configuration file");
   std::ifstream in(path);
   if (!in) throw Error(path.string() + ": cannot open configuration file");
   std::ostringstream text;

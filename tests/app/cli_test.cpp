@@ -45,6 +45,25 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(run_cli("run --bogus 1").exit_code, 2);
 }
 
+TEST(Cli, EmptyOutAndAFolderAsConfigStopWithOneLineAndWriteNothing) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir / "seq", 1);
+  const std::string config = (testing::source_dir() / "config/default.yaml").string();
+  const std::string seq = (dir / "seq").string();
+  const CommandResult empty_out = run_cli("run --config " + config + " --sequence " + seq + " --out ''");
+  EXPECT_EQ(empty_out.exit_code, 2) << empty_out.output;
+  EXPECT_NE(empty_out.output.find("--out: empty value"), std::string::npos) << empty_out.output;
+  EXPECT_EQ(count_lines(empty_out.output), 1) << empty_out.output;
+  const CommandResult folder = run_cli("run --config " + dir.path().string() + " --sequence " + seq +
+                                       " --out " + (dir / "out").string());
+  EXPECT_NE(folder.exit_code, 0);
+  EXPECT_NE(folder.output.find(dir.path().string() + ": is a folder, not a configuration file"),
+            std::string::npos)
+      << folder.output;
+  EXPECT_EQ(count_lines(folder.output), 1) << folder.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
 TEST(Cli, RunWritesEveryOutputOfEveryFrame) {
   testing::TempDir dir;
   testing::write_tiny_sequence(dir / "seq", 3);
