@@ -26,6 +26,26 @@ int ring_row_offset(const WheelRing& ring, int k, double resolution_m) {
   return -static_cast<int>(std::lround(ring.dy(k) / resolution_m));  // row 0 = max y
 }
 
+/// The cell of the 3 x 3 block around (row, col), inside the grid, that `accept`s and
+/// lies nearest by `distance2(r, c)` (the first of equals in row-major order); false if
+/// none. Both classifiers look there when a ring sample's own cell cannot serve.
+template <class Accept, class Distance2>
+bool nearest_in_3x3(const DenseGrid& grid, int row, int col, Accept accept, Distance2 distance2,
+                    int* best_row, int* best_col) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int r = row - 1; r <= row + 1; ++r)
+    for (int c = col - 1; c <= col + 1; ++c) {
+      if (r < 0 || c < 0 || r >= grid.rows || c >= grid.cols || !accept(r, c)) continue;
+      const double d2 = distance2(r, c);
+      if (d2 < best) {
+        best = d2;
+        *best_row = r;
+        *best_col = c;
+      }
+    }
+  return std::isfinite(best);
+}
+
 }  // namespace
 
 void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDiagnostics& diag) {
@@ -67,19 +87,15 @@ RingSample PiecewiseConstantClassifier::ring_sample(const LayerGrids& g, int row
   // nearest observed of its 8 neighbours: its height stands d away from the point, which
   // ground up to max_slope can shift by d tan(max_slope) (added as variance).
   const DenseGrid& h = g.height;
-  RingSample s;
-  double best = std::numeric_limits<double>::infinity();
-  for (int dr = -1; dr <= 1; ++dr)
-    for (int dc = -1; dc <= 1; ++dc) {
-      const int r = row + dr, c = col + dc;
-      const double d2 = double(dr * dr + dc * dc);
-      if (r < 0 || c < 0 || r >= h.rows || c >= h.cols || d2 >= best || std::isnan(h.at(r, c)))
-        continue;
-      best = d2;
-      const double lever2 = d2 * h.resolution_m * h.resolution_m * tan_slope * tan_slope;
-      s = {h.at(r, c), g.variance.at(r, c) + lever2, true, true};
-    }
-  return s;
+  const auto cells2 = [&](int r, int c) {
+    return double((r - row) * (r - row) + (c - col) * (c - col));
+  };
+  int r = 0, c = 0;
+  if (!nearest_in_3x3(h, row, col, [&](int rr, int cc) { return !std::isnan(h.at(rr, cc)); },
+                      cells2, &r, &c))
+    return RingSample{};
+  const double lever2 = cells2(r, c) * h.resolution_m * h.resolution_m * tan_slope * tan_slope;
+  return {h.at(r, c), g.variance.at(r, c) + lever2, true, true};
 }
 
 void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& region,
@@ -162,22 +178,14 @@ RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y
   // The holding cell is not evaluable: the plane of the nearest evaluable neighbour,
   // extrapolated to the point (its variance grows with the lever), still a measurement.
   const DenseGrid& h = g.height;
-  int best_row = -1, best_col = -1;
-  double best = std::numeric_limits<double>::infinity();
-  for (int dr = -1; dr <= 1; ++dr)
-    for (int dc = -1; dc <= 1; ++dc) {
-      const int r = row + dr, c = col + dc;
-      if ((dr == 0 && dc == 0) || r < 0 || c < 0 || r >= h.rows || c >= h.cols ||
-          g.evaluable.at(r, c) != 1.0f)
-        continue;
-      const double d2 = std::pow(h.x_of_col(c) - x_m, 2) + std::pow(h.y_of_row(r) - y_m, 2);
-      if (d2 < best) {
-        best = d2;
-        best_row = r;
-        best_col = c;
-      }
-    }
-  if (best_row >= 0) return plane_sample(g, best_row, best_col, x_m, y_m);
+  int best_row = 0, best_col = 0;  // (row, col) itself is not evaluable: never chosen
+  if (nearest_in_3x3(
+          h, row, col, [&](int r, int c) { return g.evaluable.at(r, c) == 1.0f; },
+          [&](int r, int c) {
+            return std::pow(h.x_of_col(c) - x_m, 2) + std::pow(h.y_of_row(r) - y_m, 2);
+          },
+          &best_row, &best_col))
+    return plane_sample(g, best_row, best_col, x_m, y_m);
   RingSample s;
   if (std::isnan(h.at(row, col))) return s;
   // Evidence only: the cell's published mu_z, whose variance covers the tilt it may

@@ -49,12 +49,6 @@ TerrainEnvelope TerrainEnvelope::from(const StereoConfig& stereo) {
   return e;
 }
 
-Pose3d rectified_camera_in_body(const Pose3d& T_B_C, const Eigen::Matrix3d& R1) {
-  Pose3d T_C_Cr = Pose3d::Identity();
-  T_C_Cr.linear() = R1.transpose();
-  return T_B_C * T_C_Cr;
-}
-
 GroundBand::GroundBand(const StereoGeometry& geometry, const Pose3d& T_B_Cr,
                        const TerrainEnvelope& envelope, double max_disparity_px)
     : geometry_(geometry),

@@ -24,9 +24,7 @@ PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorCon
       roi_(valid_roi),
       roi_right_(valid_roi_right) {
   check(stereo.stride >= 1, "stereo.stride must be >= 1");
-  Pose3d T_C_Cr = Pose3d::Identity();
-  T_C_Cr.linear() = R1.transpose();
-  T_B_Cr_ = T_B_C * T_C_Cr;
+  T_B_Cr_ = rectified_camera_in_body(T_B_C, R1);
   const auto& r = stereo.roi_px;
   if (r[2] > 0 && r[3] > 0) roi_ &= cv::Rect(r[0], r[1], r[2], r[3]);
 }

@@ -46,8 +46,6 @@ struct TerrainEnvelope {
   static TerrainEnvelope from(const StereoConfig& stereo);
 };
 
-/// Pose of the rectified left camera C' in the body: T_B_C * R1^T (p_C' = R1 p_C).
-Pose3d rectified_camera_in_body(const Pose3d& T_B_C, const Eigen::Matrix3d& R1);
 
 class GroundBand {
  public:
