@@ -40,11 +40,7 @@ constexpr double kFullResolution = 1.0;  ///< CADRE's 1600 x 1300 (make_cadre_ri
 constexpr std::uint64_t kRenderSeed = 913;
 
 int positive_int(const Args& args, const std::string& name, int fallback) {
-  if (!args.has(name)) return fallback;
-  const double v = args.number(name);
-  if (!(v >= 1 && v <= 1e6) || v != static_cast<double>(static_cast<int>(v)))
-    throw UsageError("--" + name + " must be a whole number >= 1");
-  return static_cast<int>(v);
+  return args.has(name) ? static_cast<int>(args.whole(name, 1, 1000000)) : fallback;
 }
 
 /// A folder that removes itself.
