@@ -72,6 +72,18 @@ void for_each_grid(LayerGrids& g, F&& f) {
 
 }  // namespace
 
+HazardStage::Placement::Move HazardStage::Placement::move_to(CellIndex x0, CellIndex y0, int n) {
+  Move m{};
+  m.placed = placed && std::abs(x0 - x) < n && std::abs(y0 - y) < n;
+  if (m.placed) {
+    m.old_window = {x, x + n, y, y + n};
+    m.drow = -static_cast<int>(y0 - y);
+    m.dcol = static_cast<int>(x0 - x);
+  }
+  *this = {true, x0, y0};
+  return m;
+}
+
 HazardStage::HazardStage(const HazardParams& params, bool incremental)
     : params_(params),
       incremental_(incremental),
@@ -112,15 +124,11 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   LayerState& s = layer_state_[i];
   LayerView& v = views_[i];
   const CellRange window{g.origin_x(), g.origin_x() + n, g.origin_y(), g.origin_y() + n};
-  const bool placed = s.at.placed && std::abs(window.x0 - s.at.x) < n && std::abs(window.y0 - s.at.y) < n;
-  const CellRange old_window =
-      placed ? CellRange{s.at.x, s.at.x + n, s.at.y, s.at.y + n} : CellRange{};
-  s.at = {true, window.x0, window.y0};
+  const Placement::Move move = s.at.move_to(window.x0, window.y0, n);
+  const bool placed = move.placed;
+  const CellRange& old_window = move.old_window;
+  const int drow = move.drow, dcol = move.dcol;
   s.classified.clear();
-  // The window moved by (dx, dy) cells: a kept cell's column drops by dx, its row (row 0
-  // = largest y) grows by dy.
-  const int drow = -static_cast<int>(window.y0 - old_window.y0);
-  const int dcol = static_cast<int>(window.x0 - old_window.x0);
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
@@ -185,14 +193,10 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   const DenseGrid& finest = views_.front().hazard;
   const double r = finest.resolution_m;
   PlannerMaps& p = planner_;
-  const bool placed = fused_at_.placed && std::abs(fused_x0 - fused_at_.x) < cells &&
-                      std::abs(fused_y0 - fused_at_.y) < cells;
   const CellRange window{fused_x0, fused_x0 + cells, fused_y0, fused_y0 + cells};
-  const CellRange old_window =
-      placed ? CellRange{fused_at_.x, fused_at_.x + cells, fused_at_.y, fused_at_.y + cells}
-             : CellRange{};
-  fused_at_ = {true, fused_x0, fused_y0};
-  if (!incremental_ || whole || !placed) {
+  const Placement::Move move = fused_at_.move_to(fused_x0, fused_y0, cells);
+  const CellRange& old_window = move.old_window;
+  if (!incremental_ || whole || !move.placed) {
     fusion_.fuse(fusion_inputs_, params_.critical_height_m, cells, r, finest.center_x_m,
                  finest.center_y_m, p.fused, p.clearance);
     fusion_.footprint(p.fused, params_.footprint_radius_m, p.footprint, p.hazard_distance);
@@ -201,11 +205,9 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
     footprint_region_ = fused_region_;
     return;
   }
-  const int drow = -static_cast<int>(window.y0 - old_window.y0);
-  const int dcol = static_cast<int>(window.x0 - old_window.x0);
-  p.fused.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
-  p.clearance.shift(drow, dcol, std::numeric_limits<float>::quiet_NaN());
-  p.footprint.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
+  p.fused.shift(move.drow, move.dcol, static_cast<float>(HazardClass::unknown));
+  p.clearance.shift(move.drow, move.dcol, std::numeric_limits<float>::quiet_NaN());
+  p.footprint.shift(move.drow, move.dcol, static_cast<float>(HazardClass::unknown));
   for (DenseGrid* d : {&p.fused, &p.clearance}) {
     d->center_x_m = finest.center_x_m;
     d->center_y_m = finest.center_y_m;

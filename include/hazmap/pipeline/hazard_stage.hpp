@@ -69,6 +69,16 @@ class HazardStage {
   struct Placement {
     bool placed = false;
     CellIndex x = 0, y = 0;
+    /// How an n x n window moved to first cell (x0, y0) since the last run: `placed` when
+    /// it was placed before and still overlaps; `old_window` its last cells (empty when not
+    /// placed); a kept cell's row grows by drow, its column by dcol (row 0 = largest y).
+    struct Move {
+      bool placed;
+      CellRange old_window;
+      int drow, dcol;
+    };
+    /// Records the new place and returns the move.
+    Move move_to(CellIndex x0, CellIndex y0, int n);
   };
   struct LayerState {
     Placement at;
