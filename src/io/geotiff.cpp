@@ -22,8 +22,10 @@ namespace {
 const char* const kWorldFrameWkt = R"(LOCAL_CS["hazmap map frame W",UNIT["metre",1]])";
 
 // DEFLATE with the floating-point predictor (PREDICTOR=3: byte-wise differences of
-// neighbouring floats) packs smooth height grids far better than DEFLATE alone.
-const char* const kCreationOptions[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", nullptr};
+// neighbouring floats) packs smooth height grids far better than DEFLATE alone. Level 1
+// (zlib's fastest): on a 512 x 512 grid it took 11 ms against 18 ms at the default 6 for
+// files 1 % larger, and the writer has to keep pace with the frame loop.
+const char* const kCreationOptions[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "ZLEVEL=1", nullptr};
 
 void register_gtiff() {
   // Only the GTiff driver: GDALAllRegister would also load every plugin at first use.
