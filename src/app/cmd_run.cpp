@@ -20,8 +20,10 @@ const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out 
                   [--set KEY=VALUE]... [--mosaic] [--quiet]
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
-Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem,
-fused_hazard.{png,jdem}, OUT/summary.json and OUT/run.log.
+Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem
+(.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json and
+OUT/run.log. A writer thread writes the frames (output.queue_frames); each frame folder
+appears complete or not at all.
   --frames A:B   frame indices [A, B) of the sorted frames (Python-like, negatives count
                  from the end)
   --set K=V      override a YAML key by dotted path, e.g. --set map.layers.0.size=64

@@ -1,6 +1,7 @@
 #include "hazmap/pipeline/frame_writer.hpp"
 
 #include <chrono>
+#include <ctime>
 #include <system_error>
 
 #include "hazmap/core/error.hpp"
@@ -14,6 +15,13 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+/// CPU time of the calling thread, ms.
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
 
 }  // namespace
@@ -89,6 +97,7 @@ FrameWriter::Stats FrameWriter::stats() const {
 void FrameWriter::write_timed(int slot) {
   const FrameOutputs& frame = slots_[static_cast<size_t>(slot)];
   const auto t = Clock::now();
+  const double cpu = thread_cpu_ms();
   std::string error;
   try {
     write_frame(out_dir_, output_, frame);
@@ -99,6 +108,7 @@ void FrameWriter::write_timed(int slot) {
   free_.push_back(slot);
   if (error.empty()) {
     stats_.write_ms += ms_since(t);
+    stats_.write_cpu_ms += thread_cpu_ms() - cpu;
     ++stats_.frames_written;
   } else if (!failed_) {
     failed_ = true;

@@ -91,6 +91,9 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("writer_ms_per_written_frame")
       .value(state.writer.frames_written ? state.writer.write_ms / state.writer.frames_written
                                          : 0.0);
+  j.key("writer_cpu_ms_per_written_frame")
+      .value(state.writer.frames_written ? state.writer.write_cpu_ms / state.writer.frames_written
+                                         : 0.0);
   j.key("loop_wait_ms_total").value(state.writer.wait_ms);
   j.end_object();
   j.key("map_ns_per_point").value(points ? sum.map_ms * 1e6 / static_cast<double>(points) : 0.0);

@@ -40,6 +40,9 @@ class FrameWriter {
   struct Stats {
     int frames_written = 0;
     double write_ms = 0;  ///< writer's time rendering and writing, summed
+    /// The CPU time of that (the writer thread's own): the work writing costs whatever
+    /// else runs; write_ms also holds the time the thread waited for a core.
+    double write_cpu_ms = 0;
     double wait_ms = 0;   ///< frame loop's time waiting for a free slot, summed
   };
   Stats stats() const;
