@@ -19,7 +19,7 @@
 namespace hazmap {
 namespace {
 
-constexpr int kFrames = 120;  ///< far more than the run gets through before the signal
+constexpr int kFrames = 400;  ///< far more than the run gets through before the signal
 constexpr auto kPoll = std::chrono::milliseconds(2);
 constexpr auto kGiveUp = std::chrono::seconds(120);
 

@@ -17,6 +17,7 @@ import argparse
 import collections
 import json
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -38,8 +39,11 @@ def run_once(args, out, sets):
     for s in sets:
         command += ["--set", s]
     start = time.monotonic()
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(command, check=True)
     wall_ms = (time.monotonic() - start) * 1000
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_ms = (after.ru_utime + after.ru_stime - used.ru_utime - used.ru_stime) * 1000
     summary = json.load(open(os.path.join(out, "summary.json")))
     frames = summary["frames"][1:]
     loop = statistics.median(sum(f["ms"][s] for s in STAGES) for f in frames)
@@ -49,7 +53,7 @@ def run_once(args, out, sets):
     size = sum(os.path.getsize(os.path.join(d, n))
                for d, _, names in os.walk(os.path.join(out, "frames")) for n in names)
     n = len(summary["frames"])
-    return loop, loop_write, written, cpu, wall_ms / n, size / n / 1e6
+    return loop, loop_write, written, cpu, wall_ms / n, cpu_ms / n, size / n / 1e6
 
 
 def main():
@@ -72,17 +76,18 @@ def main():
                         off[rep] = r[0]
                     rows[(name, queue)].append(r + (r[0] / off[rep],))
                     print("%-12s queue %d rep %d: loop %7.1f ms/frame (its write share %6.1f), "
-                          "writer %7.1f ms/frame (CPU %6.1f), wall %7.1f ms/frame, %.2f MB/frame" %
+                          "writer %7.1f ms/frame (CPU %6.1f), wall %7.1f ms/frame (process CPU %6.1f), "
+                          "%.2f MB/frame" %
                           ((name, queue, rep) + r), flush=True)
     print("\nmedians over %d repetitions [ms per frame]; ratio = loop / output-off loop of the "
           "same repetition" % args.repetitions)
-    print("%-12s %5s %8s %6s %11s %8s %11s %8s %9s" %
+    print("%-12s %5s %8s %6s %11s %8s %11s %8s %12s %9s" %
           ("case", "queue", "loop", "ratio", "loop write", "writer", "writer CPU", "wall",
-           "MB/frame"))
+           "process CPU", "MB/frame"))
     for (name, queue), rs in rows.items():
-        med = [statistics.median(r[i] for r in rs) for i in range(7)]
-        print("%-12s %5d %8.1f %6.2f %11.1f %8.1f %11.1f %8.1f %9.2f" %
-              (name, queue, med[0], med[6], med[1], med[2], med[3], med[4], med[5]))
+        med = [statistics.median(r[i] for r in rs) for i in range(8)]
+        print("%-12s %5d %8.1f %6.2f %11.1f %8.1f %11.1f %8.1f %12.1f %9.2f" %
+              (name, queue, med[0], med[7], med[1], med[2], med[3], med[4], med[5], med[6]))
 
 
 if __name__ == "__main__":
