@@ -166,11 +166,11 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   write_file_atomically(path, j.str());
 }
 
-}  // namespace
-
 bool stop_requested(const RunOptions& options) {
   return options.stop_signal != nullptr && options.stop_signal->load() != 0;
 }
+
+}  // namespace
 
 RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
   const std::vector<SequenceFrame> frames =
