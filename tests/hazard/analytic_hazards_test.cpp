@@ -435,12 +435,12 @@ TEST(AnalyticHazards, ThinStripOfRayCorrelatedPointsGivesNoFaceEvidenceButAHalfS
     return static_cast<HazardClass>(int(v.hazard.at(row, col)));
   };
   EXPECT_EQ(run(0.0, 0.001, t15), HazardClass::hazard);   // the thesis' reading: any axis
-  EXPECT_NE(run(0.25, 0.001, t15), HazardClass::hazard);  // default: the axis spans < 1/4 cell
+  EXPECT_NE(run(0.1, 0.001, t15), HazardClass::hazard);  // default: the axis spans < 1/3 cell
   // A half-seen cell (a strip 2 cm of 4 wide) keeps its evidence: the ray error is a
   // small part of that spread, so the slope across reads the ground: a 15 deg ramp is no
   // face, a 60 deg face is.
-  EXPECT_NE(run(0.25, 0.02, t15), HazardClass::hazard);
-  EXPECT_EQ(run(0.25, 0.02, std::tan(60 * M_PI / 180)), HazardClass::hazard);
+  EXPECT_NE(run(0.1, 0.02, t15), HazardClass::hazard);
+  EXPECT_EQ(run(0.1, 0.02, std::tan(60 * M_PI / 180)), HazardClass::hazard);
 }
 
 }  // namespace

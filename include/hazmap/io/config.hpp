@@ -130,8 +130,8 @@ struct HazardConfig {
   std::string roughness = "range";
   /// CCM: slope evidence from one axis of a partly covered cell needs that axis' coverage
   /// (points' variance along it over r^2/12; a strip w wide has (w / r)^2) at least this:
-  /// 0.25, the axis spans half the cell.
-  double min_axis_coverage = 0.25;
+  /// 0.1, the axis spans a third of the cell.
+  double min_axis_coverage = 0.1;
   double k_sigma = 3.0;          ///< SPEC 8: hazard when s - k sigma > T, traversable when s + k sigma <= T
   double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
   double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
