@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "cli.hpp"
+#include "hazmap/core/error.hpp"
 #include "hazmap/eval/cloud_ground_truth.hpp"
 #include "hazmap/io/point_cloud_file.hpp"
 
@@ -62,7 +63,12 @@ int cmd_ground_truth(int argc, char** argv) {
   }
   setup_logging("", false);
   const auto points = read_point_cloud(cloud);
-  const CloudGroundTruth gt = cloud_ground_truth(points, options);
+  CloudGroundTruth gt;
+  try {
+    gt = cloud_ground_truth(points, options);
+  } catch (const Error& e) {
+    throw Error(cloud + ": " + e.what());  // name the cloud whose extent is at fault
+  }
   write_cloud_ground_truth(out, gt, options, cloud);
   std::printf(
       "ground truth %d x %d cells of %g m from %zu points: %zu measured, %zu filled, %zu "

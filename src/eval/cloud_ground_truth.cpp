@@ -97,8 +97,6 @@ CloudGroundTruth cloud_ground_truth(const std::vector<Eigen::Vector3d>& points,
   CloudGroundTruth gt;
   gt.height = aligned_ground_truth_grid("height", x0, x1, y0, y1, r);
   JdemGrid& H = gt.height;
-  check(static_cast<double>(H.rows) * H.cols <= 4e8,
-        "ground truth: the grid would exceed 4e8 cells (use --crop or a coarser --resolution)");
   const int rows = H.rows, cols = H.cols;
   const double left_m = H.center_x_m - 0.5 * cols * r, bottom_m = H.center_y_m - 0.5 * rows * r;
 

@@ -1,5 +1,7 @@
 #include "hazmap/eval/ground_truth.hpp"
 
+#include <cstdio>
+
 #include "hazmap/core/error.hpp"
 
 namespace hazmap {
@@ -30,15 +32,22 @@ JdemGrid aligned_ground_truth_grid(const std::string& quantity, double x0_m, dou
     // The 1e-9 slack keeps -0.3 / 0.01 = -29.999999999999996 on lattice line -30.
     const double first = std::floor(lo / resolution_m + 1e-9);
     const double count = std::ceil(hi / resolution_m - 1e-9) - first;
-    check(count < 1e8, "ground truth: the grid would have more than 1e8 cells along an axis");
+    check(count < 2e9, "ground truth: the grid would have more than 2e9 cells along an axis");
     cells = std::max(1, static_cast<int>(count));
     cells += cells % 2;
     center = (first + 0.5 * cells) * resolution_m;
   };
   Eigen::Vector2d center;
-  int rows = 0, cols = 0;
+  int rows = 0, cols = 0;  // each < 2e9: fits an int
   axis(x0_m, x1_m, center.x(), cols);
   axis(y0_m, y1_m, center.y(), rows);
+  // Checked before allocating: one stray point far away must not ask for terabytes.
+  if (static_cast<double>(rows) * cols > 4e8) {
+    char cells[32];
+    std::snprintf(cells, sizeof cells, "%.3g", static_cast<double>(rows) * cols);
+    throw Error(std::string("ground truth: the grid would have ") + cells +
+                " cells (more than 4e8): crop the area or use a coarser resolution");
+  }
   return ground_truth_grid(quantity, resolution_m, center, rows, cols);
 }
 
