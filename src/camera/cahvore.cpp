@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 #include <Eigen/Geometry>
 
@@ -160,6 +163,116 @@ CahvoreModel cahv_from_pinhole(const Eigen::Matrix3d& K, const Pose3d& T_M_C) {
   // u = (fx X + s Y + cx Z) / Z with (X, Y, Z) = R^T p: H = R (fx, s, cx), V = R (0, fy, cy).
   m.H = R * Eigen::Vector3d(K(0, 0), K(0, 1), K(0, 2));
   m.V = R * Eigen::Vector3d(0.0, K(1, 1), K(1, 2));
+  return m;
+}
+
+CahvoreModel read_pds_camera_model(const std::filesystem::path& label) {
+  std::ifstream in(label, std::ios::binary);
+  if (!in) throw Error(label.string() + ": cannot open PDS label");
+  const std::string source = label.string();
+  auto at = [&](int line, const std::string& what) {
+    return Error(source + ":" + std::to_string(line) + ": " + what);
+  };
+  auto trim = [](std::string t) {
+    const auto a = t.find_first_not_of(" \t\r\"");
+    const auto b = t.find_last_not_of(" \t\r\"");
+    return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+  };
+  // keyword -> (value, line) inside the camera model group
+  std::map<std::string, std::pair<std::string, int>> values;
+  bool in_group = false, done = false;
+  std::string line, pending_key;
+  int line_no = 0, pending_line = 0;
+  std::string pending;
+  while (!done && std::getline(in, line)) {
+    ++line_no;
+    if (!pending_key.empty()) {  // a value in parentheses continued
+      pending += " " + trim(line);
+      if (pending.find(')') != std::string::npos) {
+        values[pending_key] = {pending, pending_line};
+        pending_key.clear();
+      }
+      continue;
+    }
+    const auto eq = line.find('=');
+    const std::string key = trim(line.substr(0, eq));
+    if (key == "END") break;  // end of the label: image data may follow
+    if (eq == std::string::npos) continue;
+    const std::string value = trim(line.substr(eq + 1));
+    if (key == "GROUP" && value.rfind("GEOMETRIC_CAMERA_MODEL", 0) == 0) {
+      in_group = true;
+      continue;
+    }
+    if (!in_group) continue;
+    if (key == "END_GROUP") {
+      done = true;
+      continue;
+    }
+    if (!value.empty() && value[0] == '(' && value.find(')') == std::string::npos) {
+      pending_key = key;
+      pending = value;
+      pending_line = line_no;
+      continue;
+    }
+    values[key] = {value, line_no};
+  }
+  if (!in_group) throw Error(source + ": no GROUP = GEOMETRIC_CAMERA_MODEL in the label");
+  if (!pending_key.empty()) throw at(pending_line, pending_key + ": unclosed '('");
+  auto get = [&](const std::string& key) -> const std::pair<std::string, int>& {
+    const auto it = values.find(key);
+    if (it == values.end()) throw Error(source + ": camera model group lacks " + key);
+    return it->second;
+  };
+  auto numbers = [&](const std::string& key, std::size_t n) {
+    const auto& [text, where] = get(key);
+    std::string t = text;
+    for (char& c : t)
+      if (c == '(' || c == ')' || c == ',') c = ' ';
+    std::istringstream fields(t);
+    std::vector<double> out;
+    for (std::string tok; fields >> tok;) {
+      // PDS may attach units: "1.5 <m>" -> skip the unit token
+      if (tok[0] == '<') continue;
+      char* end = nullptr;
+      const double v = std::strtod(tok.c_str(), &end);
+      if (*end != '\0' || !std::isfinite(v)) throw at(where, key + ": not a number: '" + tok + "'");
+      out.push_back(v);
+    }
+    if (out.size() != n)
+      throw at(where, key + ": expected " + std::to_string(n) + " numbers, found " +
+                          std::to_string(out.size()));
+    return out;
+  };
+  auto vec3 = [&](const std::string& key) {
+    const auto v = numbers(key, 3);
+    return Eigen::Vector3d(v[0], v[1], v[2]);
+  };
+  CahvoreModel m;
+  const auto& type = get("MODEL_TYPE");
+  std::string kind = trim(type.first);
+  try {
+    m.kind = parse_cahvore_kind(kind, "MODEL_TYPE");
+  } catch (const Error& e) {
+    throw at(type.second, e.what());
+  }
+  m.C = vec3("MODEL_COMPONENT_1");
+  m.A = vec3("MODEL_COMPONENT_2");
+  m.H = vec3("MODEL_COMPONENT_3");
+  m.V = vec3("MODEL_COMPONENT_4");
+  m.O = m.A;
+  if (m.kind != CahvoreKind::cahv) {
+    m.O = vec3("MODEL_COMPONENT_5");
+    m.R = vec3("MODEL_COMPONENT_6");
+  }
+  if (m.kind == CahvoreKind::cahvore) {
+    m.E = vec3("MODEL_COMPONENT_7");
+    const double t = numbers("MODEL_COMPONENT_8", 1)[0];
+    if (t != 1.0 && t != 2.0 && t != 3.0)
+      throw at(get("MODEL_COMPONENT_8").second, "MODEL_COMPONENT_8 (T) must be 1, 2 or 3");
+    m.type = static_cast<int>(t);
+    if (m.type == 3) m.parameter = numbers("MODEL_COMPONENT_9", 1)[0];
+  }
+  validate(m, source);
   return m;
 }
 

@@ -74,8 +74,22 @@ Eigen::Vector3d vector3(YamlMap& m, const std::string& key) {
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
-/// One camera's JPL model: C A H V, + O R (cahvor), + E type [parameter] (cahvore).
-CahvoreModel parse_model(YamlMap m, CahvoreKind kind, const std::string& side) {
+/// One camera's JPL model: C A H V, + O R (cahvor), + E type [parameter] (cahvore), or
+/// {pds_label: FILE} (relative to the calibration file's folder).
+CahvoreModel parse_model(YamlMap m, CahvoreKind kind, const std::string& side,
+                         const std::filesystem::path& folder) {
+  if (m.has("pds_label")) {
+    std::string file;
+    m.get("pds_label", file);
+    m.finish();
+    const std::filesystem::path path =
+        std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
+    CahvoreModel model = read_pds_camera_model(path);
+    if (model.kind != kind)
+      m.fail("pds_label", path.string() + " holds a " + cahvore_kind_name(model.kind) +
+                              " model, camera_model says " + cahvore_kind_name(kind));
+    return model;
+  }
   CahvoreModel model;
   model.kind = kind;
   model.C = vector3(m, "C");
@@ -200,8 +214,9 @@ StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
     const CahvoreKind kind = parse_cahvore_kind(model_name, source);
     if (!top.has("left")) top.fail("left", "missing required key");
     if (!top.has("right")) top.fail("right", "missing required key");
-    c.models = {parse_model(top.child("left"), kind, "left"),
-                parse_model(top.child("right"), kind, "right")};
+    const std::filesystem::path folder = path.parent_path();
+    c.models = {parse_model(top.child("left"), kind, "left", folder),
+                parse_model(top.child("right"), kind, "right", folder)};
     if (top.has("T_body_model")) c.T_B_M = parse_pose(top.child("T_body_model"));
     top.finish();
     derive_from_models(c, source);

@@ -319,6 +319,78 @@ TEST(Cahvore, CahvorRectificationRecoversARenderedDistortedPair) {
   for (size_t i = 0; i < rays.size(); ++i) EXPECT_LT(cv::norm(out_d[i] - out_i[i]), 1e-3) << i;
 }
 
+TEST(Cahvore, ReadsPdsLabelGroups) {
+  TempDir dir;
+  // A CAHVORE group as PDS3 labels write it (components over several lines, units,
+  // quoted names), after other groups, followed by END and image bytes.
+  {
+    std::ofstream(dir / "left.LBL")
+        << "PDS_VERSION_ID = PDS3\nGROUP = ROVER_COORDINATE_SYSTEM\n ORIGIN_OFFSET_VECTOR = "
+           "(1, 2, 3)\nEND_GROUP = ROVER_COORDINATE_SYSTEM\n"
+           "GROUP = GEOMETRIC_CAMERA_MODEL_PARMS\n"
+           " MODEL_TYPE = \"CAHVORE\"\n"
+           " MODEL_COMPONENT_ID = (\"C\",\"A\",\"H\",\"V\",\"O\",\"R\",\"E\",\"T\",\"P\")\n"
+           " MODEL_COMPONENT_1 = ( 0.1 <m>, 0.2 <m>,\n    -1.5 <m> )\n"
+           " MODEL_COMPONENT_2 = ( 1.0, 0.0, 0.0 )\n"
+           " MODEL_COMPONENT_3 = ( 512.0, 800.0, 0.0 )\n"
+           " MODEL_COMPONENT_4 = ( 512.0, 0.0, 800.0 )\n"
+           " MODEL_COMPONENT_5 = ( 0.999998, 0.002, 0.0 )\n"
+           " MODEL_COMPONENT_6 = ( 0.0, -0.02,\n 0.001 )\n"
+           " MODEL_COMPONENT_7 = ( 0.001, 0.0, 0.0 )\n"
+           " MODEL_COMPONENT_8 = 3.0\n MODEL_COMPONENT_9 = 0.5\n"
+           "END_GROUP = GEOMETRIC_CAMERA_MODEL_PARMS\nEND\n\x01\x02binary";
+    std::ofstream(dir / "bad.LBL") << "GROUP = GEOMETRIC_CAMERA_MODEL\n MODEL_TYPE = CAHVOR\n"
+                                      " MODEL_COMPONENT_1 = (0, 0, zero)\nEND_GROUP\nEND\n";
+    std::ofstream(dir / "short.LBL") << "GROUP = GEOMETRIC_CAMERA_MODEL\n MODEL_TYPE = CAHVOR\n"
+                                        " MODEL_COMPONENT_1 = (0, 0, 0)\nEND_GROUP\nEND\n";
+  }
+  const CahvoreModel m = read_pds_camera_model(dir / "left.LBL");
+  EXPECT_EQ(m.kind, CahvoreKind::cahvore);
+  EXPECT_EQ(m.C, Eigen::Vector3d(0.1, 0.2, -1.5));
+  EXPECT_EQ(m.H, Eigen::Vector3d(512.0, 800.0, 0.0));
+  EXPECT_EQ(m.R, Eigen::Vector3d(0.0, -0.02, 0.001));
+  EXPECT_EQ(m.E, Eigen::Vector3d(0.001, 0.0, 0.0));
+  EXPECT_EQ(m.type, 3);
+  EXPECT_EQ(m.parameter, 0.5);
+  auto error_of = [&](const char* file) {
+    try {
+      read_pds_camera_model(dir / file);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("bad.LBL").find("bad.LBL:3: MODEL_COMPONENT_1: not a number: 'zero'"),
+            std::string::npos) << error_of("bad.LBL");
+  EXPECT_NE(error_of("short.LBL").find("short.LBL: camera model group lacks MODEL_COMPONENT_2"),
+            std::string::npos) << error_of("short.LBL");
+
+  // calibration.yaml may point at labels; the model must be the one camera_model names.
+  std::ofstream(dir / "right.LBL") << testing::read_text(dir / "left.LBL");
+  {
+    std::ofstream(dir / "calibration.yaml")
+        << "image_width: 1024\nimage_height: 1024\ncamera_model: cahvore\n"
+           "left: {pds_label: left.LBL}\nright: {C: [0.1, 0.5, -1.5], A: [1, 0, 0], "
+           "H: [512, 800, 0], V: [512, 0, 800], O: [0.999998, 0.002, 0], R: [0, -0.02, 0.001], "
+           "E: [0.001, 0, 0], type: 3, parameter: 0.5}\n";
+  }
+  const StereoCalibration c = load_stereo_calibration(dir / "calibration.yaml");
+  EXPECT_EQ(c.models[0].C, m.C);
+  EXPECT_NEAR(c.T.x(), -0.3, 1e-12);  // right camera 0.3 m along +y: M is x forward, y right, z down
+  {
+    std::ofstream(dir / "calibration.yaml")
+        << "image_width: 1024\nimage_height: 1024\ncamera_model: cahvor\n"
+           "left: {pds_label: left.LBL}\nright: {pds_label: right.LBL}\n";
+  }
+  try {
+    load_stereo_calibration(dir / "calibration.yaml");
+    ADD_FAILURE() << "a CAHVORE label accepted as cahvor";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds a cahvore model, camera_model says cahvor"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(Cahvore, CalibrationFileErrorsNameFileAndKey) {
   TempDir dir;
   const std::string head = "image_width: 64\nimage_height: 48\ncamera_model: cahvor\n";

@@ -17,6 +17,7 @@
 //            1 for type 1 (perspective), 0 for type 2 (fish-eye), the parameter P for
 //            type 3 (general). With E = 0 and type 1 this is CAHVOR.
 
+#include <filesystem>
 #include <string>
 
 #include <Eigen/Core>
@@ -76,6 +77,13 @@ CahvPinhole cahv_pinhole(const CahvoreModel& model, const std::string& source = 
 /// The CAHV model of a pinhole camera with intrinsics K (upper triangular) whose frame
 /// (OpenCV axes) sits at T_M_C in M.
 CahvoreModel cahv_from_pinhole(const Eigen::Matrix3d& K, const Pose3d& T_M_C);
+
+/// Reads the camera model group of a PDS3 label (a detached .LBL or the label at the
+/// start of an .IMG): the first `GROUP = GEOMETRIC_CAMERA_MODEL...` up to its END_GROUP,
+/// MODEL_TYPE and MODEL_COMPONENT_1..9 (C A H V O R E T P), values in parentheses
+/// possibly over several lines. Throws Error naming the file and the line (or the
+/// missing keyword).
+CahvoreModel read_pds_camera_model(const std::filesystem::path& label);
 
 /// Checks the model's numbers (finite, unit A and O, type in 1..3); throws Error
 /// prefixed by `source`.
