@@ -60,6 +60,8 @@ void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDi
 
 PiecewiseConstantClassifier::PiecewiseConstantClassifier(const LayerHazardParams& params)
     : HazardClassifier(params) {
+  filter_.set_detrended(params.detrended_roughness);
+  kernel_face_tan_ = params.h_min_m / (0.5 * (params.kernel - 1) * params.resolution_m);
   for (int w : kernel_half_widths(params.kernel)) kernel_cells_ += 2 * w + 1;
   for (int n = 0; n <= kernel_cells_; ++n) kernel_k_.push_back(kernel_k_sigma(params.k_sigma, n));
 }
@@ -70,6 +72,10 @@ void PiecewiseConstantClassifier::reset_diagnostics(const DenseGrid& h,
   diag.kernel_range.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
   diag.kernel_sigma.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
   diag.kernel_fill.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, 0.0f);
+  if (params_.detrended_roughness) {
+    diag.kernel_slope.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
+    diag.kernel_slope_sigma.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, nan);
+  }
 }
 
 int PiecewiseConstantClassifier::reach_cells() const {
@@ -103,8 +109,10 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
   const DenseGrid& h = g.height;
   const LayerHazardParams& p = params_;
   const GridRect cells = region.clipped(h.rows, h.cols);
+  const bool detrended = p.detrended_roughness;
   filter_.compute(h, g.variance, p.kernel, cells, diag.kernel_range, diag.kernel_sigma,
-                  diag.kernel_fill);
+                  diag.kernel_fill, detrended ? &diag.kernel_slope : nullptr,
+                  detrended ? &diag.kernel_slope_sigma : nullptr);
   const double tan_slope = std::tan(p.max_slope_rad);
   const int kernel_cells = kernel_cells_;
   // Ring samples as cell offsets (the observed cell that holds each sample point).
@@ -128,6 +136,13 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
       const int observed = static_cast<int>(std::lround(double(diag.kernel_fill.at(row, col)) * kernel_cells));
       ev.test(range, diag.kernel_sigma.at(row, col), p.roughness_threshold_m, complete,
               kernel_k_[std::clamp(observed, 0, kernel_cells)]);
+      // Detrended: a kernel plane rising h_min within the kernel's radius is a face, even
+      // on a partly seen kernel (measured: a partial ring leaves rock faces unknown).
+      // Slopes short of that are the ring's to judge: against max_slope itself, the
+      // 6-cell plane turned stereo noise on ramps into hazards.
+      if (detrended)
+        ev.evidence(diag.kernel_slope.at(row, col), diag.kernel_slope_sigma.at(row, col),
+                    kernel_face_tan_);
       if (p.ring_tests && !ev.hazard()) {
         if (std::isnan(z)) {
           ev.missing();
@@ -135,6 +150,8 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
           RingSample s[WheelRing::kSamples];
           for (int k = 0; k < WheelRing::kSamples; ++k)
             s[k] = ring_sample(g, row + ring_dr[k], col + ring_dc[k], tan_slope);
+          // Detrended kernels leave slopes to the ring (SPEC 8.2's vehicle slope).
+          if (p.detrended_roughness) ring_.slope_test(s, tan_slope, ev);
           ring_.step_test(z, g.variance.at(row, col), s, p.h_min_m, tan_slope, ev);
         }
       }
@@ -237,6 +254,7 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
       const double ex[2] = {std::cos(theta), -std::sin(theta)};
       const double ey[2] = {std::sin(theta), std::cos(theta)};
       const double tiny = 1e-6 * h.resolution_m * h.resolution_m;
+      const double min_axis_spread = p.min_axis_coverage * h.resolution_m * h.resolution_m / 12.0;
       double g2 = 0, var_g = 0;
       bool both_axes = true;
       for (int i = 0; i < 2; ++i) {
@@ -246,8 +264,13 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
         }
         const double gi = (ex[i] * cxz + ey[i] * cyz) / lambda[i];
         const double si = std::sqrt(res_var / (std::max(n_eff, 1.0) * lambda[i]));
-        ev.evidence(std::abs(gi), si, p.tan_face);
-        if (!p.ring_tests) ev.evidence(std::abs(gi), si, tan_slope);
+        // Evidence only along an axis the points span well: across a thin strip their
+        // spread is mostly their own lateral noise, whose error moves x and z together
+        // (measured on a 15 deg ramp: 56 and 65 deg across strips 0.13 and 0.2 cells wide).
+        if (lambda[i] >= min_axis_spread) {
+          ev.evidence(std::abs(gi), si, p.tan_face);
+          if (!p.ring_tests) ev.evidence(std::abs(gi), si, tan_slope);
+        }
         g2 += gi * gi;
         var_g += si * si;
       }

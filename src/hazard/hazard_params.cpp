@@ -20,6 +20,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& c
   p.ring_tests = layer.resolution_m < hz.wheelbase_m;
   p.kernel = layer.hazard.kernel;
   p.min_kernel_fill = hz.min_kernel_fill;
+  p.detrended_roughness = hz.roughness == "detrended" && p.ring_tests;
   // SPEC 8.1: cell heights sit at cell centres, (D - 1) r apart across the kernel.
   p.roughness_threshold_m = layer.hazard.roughness_threshold_m >= 0
                                 ? layer.hazard.roughness_threshold_m
@@ -37,6 +38,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& c
   }
   p.rho_max_m2 = layer.hazard.rho_max_m2 > 0 ? layer.hazard.rho_max_m2 : p.h_min_m * p.h_min_m / 16.0;
   p.tan_face = p.h_min_m / layer.resolution_m;
+  p.min_axis_coverage = hz.min_axis_coverage;
   p.min_points = config.rules.ccm.min_points;
   p.max_effective_count = config.rules.ccm.weighting == "constant" ? config.rules.ccm.max_weight : 1e300;
   if (p.family == HazardFamily::piecewise_constant) {

@@ -47,17 +47,21 @@ std::vector<int> kernel_half_widths(int kernel) {
 }
 
 void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
-                              DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill) {
+                              DenseGrid& roughness, DenseGrid& sigma, DenseGrid& fill,
+                              DenseGrid* slope, DenseGrid* slope_sigma) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   roughness.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
   sigma.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
   fill.reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, 0.0f);
-  compute(height, variance, kernel, GridRect::full(height.rows, height.cols), roughness, sigma, fill);
+  for (DenseGrid* g : {slope, slope_sigma})
+    if (g) g->reset(height.rows, height.cols, height.resolution_m, height.center_x_m, height.center_y_m, nan);
+  compute(height, variance, kernel, GridRect::full(height.rows, height.cols), roughness, sigma,
+          fill, slope, slope_sigma);
 }
 
 void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance, int kernel,
                               const GridRect& region, DenseGrid& roughness, DenseGrid& sigma,
-                              DenseGrid& fill) {
+                              DenseGrid& fill, DenseGrid* slope, DenseGrid* slope_sigma) {
   if (kernel != kernel_) {  // allocation only when the kernel changes, not per frame
     widths_ = kernel_half_widths(kernel);
     kernel_ = kernel;
@@ -74,6 +78,12 @@ void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance
   roughness.fill_rect(out.row0, out.row1, out.col0, out.col1, nan);
   sigma.fill_rect(out.row0, out.row1, out.col0, out.col1, nan);
   fill.fill_rect(out.row0, out.row1, out.col0, out.col1, 0.0f);
+  if (detrended_) {
+    for (DenseGrid* g : {slope, slope_sigma})
+      if (g) g->fill_rect(out.row0, out.row1, out.col0, out.col1, nan);
+    compute_detrended(height, variance, out, roughness, sigma, fill, slope, slope_sigma);
+    return;
+  }
 
   // Per distinct half-width w: sliding max/min/count of the rows the region's kernels
   // cover, over [c - w, c + w]. Each row is scanned over [col_lo, col_hi) only: a window
@@ -126,6 +136,92 @@ void RoughnessFilter::compute(const DenseGrid& height, const DenseGrid& variance
       if (count > 0) {
         roughness.at(r, c) = hi - lo;
         sigma.at(r, c) = std::sqrt(hi_var + lo_var);
+      }
+    }
+  }
+}
+
+KernelPlane fit_kernel_plane(const int* dx, const int* dy, const float* z, int n) {
+  KernelPlane p;
+  if (n <= 0) return p;
+  double sx = 0, sy = 0, sz = 0;
+  for (int i = 0; i < n; ++i) sx += dx[i], sy += dy[i], sz += z[i];
+  const double mx = sx / n, my = sy / n, mz = sz / n;
+  double cxx = 0, cxy = 0, cyy = 0, cxz = 0, cyz = 0;
+  for (int i = 0; i < n; ++i) {
+    const double u = dx[i] - mx, v = dy[i] - my, w = z[i] - mz;
+    cxx += u * u, cxy += u * v, cyy += v * v, cxz += u * w, cyz += v * w;
+  }
+  // Offsets are whole cells: non-collinear points give det >= 1 (a lattice triangle has
+  // twice-area >= 1), so 0.5 separates collinear from not without a scale.
+  const double det = cxx * cyy - cxy * cxy;
+  p.slope_variance_factor = std::numeric_limits<double>::infinity();
+  if (det > 0.5) {
+    p.b = (cyy * cxz - cxy * cyz) / det;
+    p.c = (cxx * cyz - cxy * cxz) / det;
+    p.slope_variance_factor = (cxx + cyy) / det;
+  } else if (cxx + cyy > 0.5) {  // collinear: the slope along their line, none across
+    const double theta = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);
+    const double ex = std::cos(theta), ey = std::sin(theta);
+    const double along = ex * ex * cxx + 2 * ex * ey * cxy + ey * ey * cyy;
+    const double slope = (ex * cxz + ey * cyz) / along;
+    p.b = slope * ex;
+    p.c = slope * ey;
+    p.slope_variance_factor = 1.0 / along;
+  }
+  p.a = mz - p.b * mx - p.c * my;
+  return p;
+}
+
+void RoughnessFilter::compute_detrended(const DenseGrid& height, const DenseGrid& variance,
+                                        const GridRect& out, DenseGrid& roughness,
+                                        DenseGrid& sigma, DenseGrid& fill, DenseGrid* slope,
+                                        DenseGrid* slope_sigma) {
+  const double r = height.resolution_m;
+  const std::vector<int>& widths = widths_;
+  const int kernel = kernel_, half = (kernel - 1) / 2;
+  const int rows = height.rows, cols = height.cols;
+  int kernel_cells = 0;
+  for (int w : widths) kernel_cells += 2 * w + 1;
+  // Scratch for one kernel's observed cells (sized once per kernel: no per-frame growth).
+  kdx_.resize(static_cast<size_t>(kernel_cells));
+  kdy_.resize(kdx_.size());
+  kz_.resize(kdx_.size());
+  kvar_.resize(kdx_.size());
+  for (int row = std::max(half, out.row0); row < std::min(rows - half, out.row1); ++row) {
+    for (int col = std::max(half, out.col0); col < std::min(cols - half, out.col1); ++col) {
+      int n = 0;
+      for (int dy = -half; dy <= half; ++dy) {
+        const int w = widths[dy + half];
+        const float* hrow = &height.values[static_cast<size_t>(row + dy) * cols];
+        const float* vrow = &variance.values[static_cast<size_t>(row + dy) * cols];
+        for (int dx = -w; dx <= w; ++dx) {
+          const float v = hrow[col + dx];
+          if (std::isnan(v)) continue;
+          kdx_[n] = dx, kdy_[n] = dy, kz_[n] = v, kvar_[n] = vrow[col + dx];
+          ++n;
+        }
+      }
+      fill.at(row, col) = static_cast<float>(n) / static_cast<float>(kernel_cells);
+      if (n == 0) continue;
+      const KernelPlane p = fit_kernel_plane(kdx_.data(), kdy_.data(), kz_.data(), n);
+      double hi = -kInf, lo = kInf, var_sum = 0;
+      float hi_var = 0, lo_var = 0;
+      for (int i = 0; i < n; ++i) {
+        var_sum += kvar_[i];
+        const double e = kz_[i] - (p.a + p.b * kdx_[i] + p.c * kdy_[i]);
+        if (e > hi) hi = e, hi_var = kvar_[i];
+        if (e < lo) lo = e, lo_var = kvar_[i];
+      }
+      roughness.at(row, col) = static_cast<float>(hi - lo);
+      sigma.at(row, col) = std::sqrt(hi_var + lo_var);
+      if (slope && std::isfinite(p.slope_variance_factor)) {
+        // Offsets are in cells: slopes per cell / r. The cells' mean variance stands for
+        // each one's in the least-squares propagation.
+        slope->at(row, col) = static_cast<float>(std::hypot(p.b, p.c) / r);
+        if (slope_sigma)
+          slope_sigma->at(row, col) =
+              static_cast<float>(std::sqrt(var_sum / n * p.slope_variance_factor) / r);
       }
     }
   }

@@ -153,6 +153,9 @@ void parse_hazard(YamlMap m, HazardConfig& h) {
   m.get("max_slope_deg", h.max_slope_deg);
   m.get("wheelbase", h.wheelbase_m);
   m.get("min_kernel_fill", h.min_kernel_fill);
+  m.get("roughness", h.roughness);
+  one_of(m, "roughness", h.roughness, {"range", "detrended"});
+  m.get("min_axis_coverage", h.min_axis_coverage);
   m.get("k_sigma", h.k_sigma);
   m.get("critical_height", h.critical_height_m);
   m.get("footprint_radius", h.footprint_radius_m);
@@ -309,6 +312,8 @@ void validate(const Config& c) {
     invalid("hazard.wheelbase", "must be in (0, 100] m (a reach in cells must fit an int)");
   if (!(c.hazard.min_kernel_fill >= 0 && c.hazard.min_kernel_fill <= 1))
     invalid("hazard.min_kernel_fill", "must be in [0, 1]");
+  if (!(c.hazard.min_axis_coverage >= 0 && c.hazard.min_axis_coverage <= 1))
+    invalid("hazard.min_axis_coverage", "must be in [0, 1]");
   if (!(c.hazard.k_sigma >= 0 && c.hazard.k_sigma <= 100)) invalid("hazard.k_sigma", "must be in [0, 100]");
   if (!std::isfinite(c.hazard.critical_height_m) || c.hazard.critical_height_m == 0)
     invalid("hazard.critical_height", "must be > 0 (or < 0 to use the finest layer's h_min)");
@@ -421,6 +426,8 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "max_slope_deg" << YAML::Value << c.hazard.max_slope_deg
       << YAML::Key << "wheelbase" << YAML::Value << c.hazard.wheelbase_m
       << YAML::Key << "min_kernel_fill" << YAML::Value << c.hazard.min_kernel_fill
+      << YAML::Key << "roughness" << YAML::Value << c.hazard.roughness
+      << YAML::Key << "min_axis_coverage" << YAML::Value << c.hazard.min_axis_coverage
       << YAML::Key << "k_sigma" << YAML::Value << c.hazard.k_sigma
       << YAML::Key << "critical_height" << YAML::Value << c.hazard.critical_height_m
       << YAML::Key << "footprint_radius" << YAML::Value << c.hazard.footprint_radius_m

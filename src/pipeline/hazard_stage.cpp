@@ -144,10 +144,13 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
     v.diagnostics.kernel_range.shift(drow, dcol, nan);
     v.diagnostics.kernel_sigma.shift(drow, dcol, nan);
     v.diagnostics.kernel_fill.shift(drow, dcol, 0.0f);
+    v.diagnostics.kernel_slope.shift(drow, dcol, nan);
+    v.diagnostics.kernel_slope_sigma.shift(drow, dcol, nan);
     v.hazard.center_x_m = g.center_x_m();
     v.hazard.center_y_m = g.center_y_m();
     for (DenseGrid* d : {&v.diagnostics.kernel_range, &v.diagnostics.kernel_sigma,
-                         &v.diagnostics.kernel_fill})
+                         &v.diagnostics.kernel_fill, &v.diagnostics.kernel_slope,
+                         &v.diagnostics.kernel_slope_sigma})
       if (d->rows > 0) {  // plane layers leave them empty
         d->center_x_m = g.center_x_m();
         d->center_y_m = g.center_y_m();

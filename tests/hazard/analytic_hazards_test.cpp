@@ -366,5 +366,82 @@ TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndTwoCel
   }
 }
 
+
+TEST(AnalyticHazards, DetrendedKernelProvesAnAlmost20DegRampTheRangeCannotAndKeepsEveryHazard) {
+  // 18 deg: the 7-cell range is 6 x 1 cm x tan 18 = 1.95 cm, so its proof (+ 3 sigma of
+  // two 1 mm cells, 0.4 cm) fails the 2.18 cm threshold; the residuals about the kernel's
+  // plane are noise, and the ring's 30 cm baseline tells 18 deg from 20.
+  Config config = analytic_config({{RuleKind::kalman, 0.01}});
+  const double t18 = std::tan(18 * M_PI / 180);
+  const auto ramp = [](double t) { return [t](double x, double) { return t * x; }; };
+  const Counts range_mode = count(map_surface(config, ramp(t18), 1.4, 0.003, 0.003)[0].hazard);
+  config.hazard.roughness = "detrended";
+  const Counts detrended = count(map_surface(config, ramp(t18), 1.4, 0.003, 0.003)[0].hazard);
+  EXPECT_EQ(range_mode.hazard, 0);
+  EXPECT_EQ(detrended.hazard, 0);
+  EXPECT_LT(range_mode.traversable, detrended.traversable / 10);
+  EXPECT_GT(detrended.traversable, 0.9 * (detrended.traversable + detrended.unknown));
+  // 22 deg, just over the limit: no kernel residual, but the ring's plane is too steep.
+  const Counts steep = count(map_surface(config, ramp(std::tan(22 * M_PI / 180)), 1.4, 0.003, 0.001)[0].hazard);
+  EXPECT_EQ(steep.traversable, 0);
+  EXPECT_GT(steep.hazard, 0.9 * (steep.hazard + steep.unknown));
+  // Obstacles stay hazards: a 3 cm rock, one face of a 6 cm rock, a flat 6 cm block top.
+  const auto hazard_at = [&](const Surface& s, double x, double y, const Visible& v = nullptr) {
+    const auto views = map_surface(config, s, 1.4, 0.002, 0.001, 1, v);
+    int row = 0, col = 0;
+    EXPECT_TRUE(views[0].hazard.cell_at(x, y, &row, &col));
+    return views[0].hazard.at(row, col) == float(HazardClass::hazard);
+  };
+  EXPECT_TRUE(hazard_at(rock(0.03), 0.2 - 0.02, 0.1));
+  EXPECT_TRUE(hazard_at(rock(0.06), 0.2 - 0.04, 0.1, [](double x, double) { return x < 0.2; }));
+  const auto block = [](double x, double y) {
+    return std::abs(x - 0.3) < 0.12 && std::abs(y - 0.1) < 0.12 ? 0.06 : 0.0;
+  };
+  EXPECT_TRUE(hazard_at(block, 0.301, 0.101));
+}
+
+
+TEST(AnalyticHazards, ThinStripOfRayCorrelatedPointsGivesNoFaceEvidenceButAHalfSeenCellStill) {
+  // A 4 cm cell on a 15 deg ramp seen as a strip 1 mm wide across x, whose points carry a
+  // depth error along a ray 60 deg down (x and z move together, 3 mm sigma): regressing
+  // z on x across the strip reads the ray's tan 60 = 1.7, past the 3 cm face limit
+  // (tan 37 deg), though the strip says nothing about the ground's slope.
+  const double r = 0.04, t15 = std::tan(15 * M_PI / 180);
+  auto run = [&](double min_axis_coverage, double strip_m, double slope) {
+    Config config = analytic_config({{RuleKind::ccm, r}});
+    config.hazard.min_axis_coverage = min_axis_coverage;
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> ray(0.0, 0.003);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    PointCloud cloud;
+    for (int i = 0; i < 400; ++i) {
+      const double e = ray(rng);
+      const double x = 0.01 + strip_m * u(rng) + e * std::cos(M_PI / 3);
+      const double y = 0.002 + 0.036 * u(rng);
+      Measurement m{};
+      m.p_W = Eigen::Vector3f(float(x), float(y), float(slope * (x - e * std::cos(M_PI / 3)) + e * std::sin(M_PI / 3)));
+      m.cov_xx = m.cov_yy = 1e-6f;
+      m.cov_zz = 9e-6f;
+      cloud.push_back(m);
+    }
+    LayerStack stack(config.map, config.rules);
+    stack.begin_frame(0.001, 0.001);
+    stack.insert(MapPoints(cloud));
+    LayerView v;
+    stack.export_layer(0, v.map);
+    make_hazard_classifier(resolve_hazard_params(config).layers[0])->classify(v.map, v.hazard, v.diagnostics);
+    int row = 0, col = 0;
+    EXPECT_TRUE(v.hazard.cell_at(0.02, 0.02, &row, &col));
+    return static_cast<HazardClass>(int(v.hazard.at(row, col)));
+  };
+  EXPECT_EQ(run(0.0, 0.001, t15), HazardClass::hazard);   // the thesis' reading: any axis
+  EXPECT_NE(run(0.25, 0.001, t15), HazardClass::hazard);  // default: the axis spans < 1/4 cell
+  // A half-seen cell (a strip 2 cm of 4 wide) keeps its evidence: the ray error is a
+  // small part of that spread, so the slope across reads the ground: a 15 deg ramp is no
+  // face, a 60 deg face is.
+  EXPECT_NE(run(0.25, 0.02, t15), HazardClass::hazard);
+  EXPECT_EQ(run(0.25, 0.02, std::tan(60 * M_PI / 180)), HazardClass::hazard);
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 namespace hazmap {
@@ -190,6 +191,127 @@ TEST(RoughnessFilter, KernelEvidenceMakesAnUnobservedCellAHazardButNeverTraversa
   const DenseGrid hazard = classify(h, constant_like(h, 1e-6f), roughness_only(kernel, 0.03, 0.5, 3.0));
   EXPECT_EQ(hazard.at(15, 15), float(HazardClass::hazard));
   EXPECT_EQ(hazard.at(15, 5), float(HazardClass::unknown));  // flat kernel, but no cell data
+}
+
+
+// ---- Detrended roughness (hazard.roughness: detrended) ----
+
+TEST(KernelPlane, RecoversAPlaneALineAlongCollinearCellsAndAMean) {
+  // Five non-collinear cells on z = 0.3 + 0.02 dx - 0.05 dy.
+  const int dx[] = {-1, 0, 1, 0, 2}, dy[] = {0, -1, 0, 1, 2};
+  float z[5];
+  for (int i = 0; i < 5; ++i) z[i] = static_cast<float>(0.3 + 0.02 * dx[i] - 0.05 * dy[i]);
+  KernelPlane p = fit_kernel_plane(dx, dy, z, 5);
+  EXPECT_NEAR(p.a, 0.3, 1e-6);
+  EXPECT_NEAR(p.b, 0.02, 1e-6);
+  EXPECT_NEAR(p.c, -0.05, 1e-6);
+  // Cells on the diagonal dx = dy = t with z = 1 + 0.4 t: the minimum-norm plane rises
+  // 0.4 per diagonal step, split equally over x and y, and is flat across the line.
+  const int t[] = {-2, -1, 0, 1, 3};
+  float zl[5];
+  for (int i = 0; i < 5; ++i) zl[i] = static_cast<float>(1.0 + 0.4 * t[i]);
+  p = fit_kernel_plane(t, t, zl, 5);
+  EXPECT_NEAR(p.a, 1.0, 1e-6);
+  EXPECT_NEAR(p.b, 0.2, 1e-6);
+  EXPECT_NEAR(p.c, 0.2, 1e-6);
+  // One cell, twice: the mean, no slope.
+  const int o[] = {1, 1};
+  const float zo[] = {0.5f, 0.7f};
+  p = fit_kernel_plane(o, o, zo, 2);
+  EXPECT_NEAR(p.a + p.b + p.c, 0.6, 1e-6);
+  EXPECT_EQ(p.b, 0.0);
+  EXPECT_EQ(p.c, 0.0);
+}
+
+/// Independent reference: Eigen's QR least squares over the kernel's observed cells,
+/// then the residual range and the variances of the cells it comes from.
+void detrended_reference(const DenseGrid& h, const DenseGrid& var, int kernel, int row, int col,
+                         double* range, double* sigma, double* fill) {
+  const std::vector<int> widths = kernel_half_widths(kernel);
+  const int half = (kernel - 1) / 2;
+  std::vector<Eigen::Vector3d> rows;
+  std::vector<double> z, v;
+  int cells = 0;
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -widths[dy + half]; dx <= widths[dy + half]; ++dx) {
+      ++cells;
+      const float hz = h.at(row + dy, col + dx);
+      if (std::isnan(hz)) continue;
+      rows.emplace_back(1.0, dx, dy);
+      z.push_back(hz);
+      v.push_back(var.at(row + dy, col + dx));
+    }
+  *fill = double(z.size()) / cells;
+  Eigen::MatrixXd A(rows.size(), 3);
+  Eigen::VectorXd b(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) A.row(i) = rows[i].transpose(), b(i) = z[i];
+  const Eigen::VectorXd e = b - A * A.colPivHouseholderQr().solve(b);
+  Eigen::Index hi = 0, lo = 0;
+  e.maxCoeff(&hi);
+  e.minCoeff(&lo);
+  *range = e(hi) - e(lo);
+  *sigma = std::sqrt(v[hi] + v[lo]);
+}
+
+TEST(DetrendedRoughness, IsZeroOnASteepPlaneAndMatchesAnEigenFitOnRandomTerrain) {
+  const int kernel = 7;
+  RoughnessFilter filter;
+  filter.set_detrended(true);
+  DenseGrid range, sigma, fill;
+  // A 40 deg plane with holes: the range sees 6 cells x 0.84 = 5 cm, the residuals none.
+  DenseGrid steep = plane(40, 0.01, std::tan(40 * M_PI / 180));
+  const DenseGrid holes = random_map(40, 40, 0.3, 7);
+  for (size_t i = 0; i < steep.values.size(); ++i)
+    if (std::isnan(holes.values[i])) steep.values[i] = NAN;
+  DenseGrid slope, slope_sigma;
+  filter.compute(steep, constant_like(steep, 1e-6f), kernel, range, sigma, fill, &slope, &slope_sigma);
+  int checked = 0;
+  for (int row = 3; row < 37; ++row)
+    for (int col = 3; col < 37; ++col)
+      if (fill.at(row, col) > 0.3f) {
+        EXPECT_LT(std::abs(range.at(row, col)), 2e-6) << row << "," << col;  // float heights
+        EXPECT_NEAR(slope.at(row, col), std::tan(40 * M_PI / 180), 1e-4) << row << "," << col;
+        // Independent: trace of sigma^2 (A^T A)^-1 over the slope terms, A = [1 dx dy].
+        std::vector<Eigen::Vector3d> a;
+        const std::vector<int> widths = kernel_half_widths(kernel);
+        for (int dy = -3; dy <= 3; ++dy)
+          for (int dx = -widths[dy + 3]; dx <= widths[dy + 3]; ++dx)
+            if (!std::isnan(steep.at(row + dy, col + dx))) a.emplace_back(1.0, dx, dy);
+        Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+        for (const auto& v : a) ata += v * v.transpose();
+        const Eigen::Matrix3d inv = ata.inverse();
+        EXPECT_NEAR(slope_sigma.at(row, col), std::sqrt(1e-6 * (inv(1, 1) + inv(2, 2))) / 0.01,
+                    1e-5) << row << "," << col;
+        ++checked;
+      }
+  EXPECT_GT(checked, 500);
+  // Random heights (+-0.2 m) with 40 % holes: every cell against the reference.
+  const DenseGrid h = random_map(30, 30, 0.4, 11);
+  const DenseGrid var = random_variance(h, 11);
+  filter.compute(h, var, kernel, range, sigma, fill);
+  for (int row = 0; row < 30; ++row)
+    for (int col = 0; col < 30; ++col) {
+      if (row < 3 || col < 3 || row >= 27 || col >= 27) {  // kernel leaves the grid
+        EXPECT_TRUE(std::isnan(range.at(row, col)));
+        continue;
+      }
+      double r_ref, s_ref, f_ref;
+      detrended_reference(h, var, kernel, row, col, &r_ref, &s_ref, &f_ref);
+      EXPECT_NEAR(range.at(row, col), r_ref, 1e-5) << row << "," << col;
+      EXPECT_NEAR(sigma.at(row, col), s_ref, 1e-7) << row << "," << col;
+      EXPECT_NEAR(fill.at(row, col), f_ref, 1e-6) << row << "," << col;
+    }
+  // A region's cells equal the whole grid's (SPEC 8.6), the rest untouched.
+  DenseGrid r2 = range, s2 = sigma, f2 = fill;
+  for (auto& x : r2.values) x = -1.0f;
+  filter.compute(h, var, kernel, GridRect{5, 17, 8, 21}, r2, s2, f2);
+  for (int row = 0; row < 30; ++row)
+    for (int col = 0; col < 30; ++col) {
+      const bool inside = row >= 5 && row < 17 && col >= 8 && col < 21;
+      const float want = inside ? range.at(row, col) : -1.0f;
+      if (std::isnan(want)) EXPECT_TRUE(std::isnan(r2.at(row, col)));
+      else EXPECT_EQ(r2.at(row, col), want) << row << "," << col;
+    }
 }
 
 }  // namespace

@@ -18,6 +18,10 @@ struct HazardDiagnostics {
   DenseGrid kernel_range;  ///< piecewise constant: max - min in the kernel [m]
   DenseGrid kernel_sigma;  ///< its standard deviation [m]
   DenseGrid kernel_fill;   ///< observed fraction of the kernel
+  /// Detrended kernels only (empty otherwise): tan of the kernel plane's inclination and
+  /// its standard deviation.
+  DenseGrid kernel_slope;
+  DenseGrid kernel_slope_sigma;
 };
 
 class HazardClassifier {
@@ -68,6 +72,7 @@ class PiecewiseConstantClassifier final : public HazardClassifier {
   RingSample ring_sample(const LayerGrids& g, int row, int col, double tan_slope) const;
 
   RoughnessFilter filter_;
+  double kernel_face_tan_ = 0;  ///< detrended: h_min over the kernel's radius
   int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
 };

@@ -34,9 +34,16 @@ struct LayerHazardParams {
   int kernel = 5;
   double roughness_threshold_m = 0.025;
   double min_kernel_fill = 0.5;
+  /// Roughness from the residuals of the kernel's plane, with the wheel ring's
+  /// vehicle-slope test (SPEC 8.2) for slopes: hazard.roughness = detrended, on layers
+  /// finer than the wheelbase (coarser ones have no ring and keep the range).
+  bool detrended_roughness = false;
   // CCM (SPEC 8.2)
   double rho_max_m2 = 5.6e-5;
   double tan_face = 0.75;        ///< tan of the rock-face inclination, h_min / r
+  /// A partly covered cell's axis gives slope evidence only if its coverage
+  /// lambda / (r^2 / 12) reaches this (hazard.min_axis_coverage).
+  double min_axis_coverage = 0.0;
   int min_points = 10;
   /// Points a CCM cell's statistics can count on at most (its weight cap, for constant
   /// weights: older points are discounted beyond it); infinity otherwise.

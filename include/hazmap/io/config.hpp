@@ -124,6 +124,14 @@ struct HazardConfig {
   double max_slope_deg = 20.0;
   double wheelbase_m = 0.30;
   double min_kernel_fill = 0.5;  ///< fraction of kernel cells that must be observed
+  /// Piecewise-constant kernel statistic (SPEC 8.1): "range" (max - min of the heights,
+  /// the thesis') or "detrended" (max - min of the residuals from the kernel's
+  /// least-squares plane, with the wheel ring's vehicle-slope test taking over slopes).
+  std::string roughness = "range";
+  /// CCM: slope evidence from one axis of a partly covered cell needs that axis' coverage
+  /// (points' variance along it over r^2/12; a strip w wide has (w / r)^2) at least this:
+  /// 0.25, the axis spans half the cell.
+  double min_axis_coverage = 0.25;
   double k_sigma = 3.0;          ///< SPEC 8: hazard when s - k sigma > T, traversable when s + k sigma <= T
   double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
   double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
