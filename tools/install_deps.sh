@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   libopencv-dev libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
+  libgdal-dev gdal-bin
   libgtest-dev libbenchmark-dev
   parallel chromium
 )

@@ -1,6 +1,10 @@
 // hazmap run: map a stereo sequence.
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+
+#include <signal.h>
 
 #include <spdlog/spdlog.h>
 
@@ -16,14 +20,42 @@ const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out 
                   [--set KEY=VALUE]... [--mosaic] [--quiet]
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
-Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem,
-fused_hazard.{png,jdem}, OUT/summary.json and OUT/run.log.
+Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem
+(.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json and
+OUT/run.log. A writer thread writes the frames (output.queue_frames); each frame folder
+appears complete or not at all.
   --frames A:B   frame indices [A, B) of the sorted frames (Python-like, negatives count
                  from the end)
   --set K=V      override a YAML key by dotted path, e.g. --set map.layers.0.size=64
   --mosaic       also write OUT/mosaic/<frame>.png: every layer side by side (a film)
   --quiet        no per-frame progress on the terminal
+
+SIGINT or SIGTERM stops the run after the frame in flight: that frame is written, the
+writer's queue flushed, one line says after which frame it stopped, and the exit code is
+128 + the signal (130, 143). A second signal ends the process at once.
 )";
+
+/// Shell convention: a process ended by signal N exits with 128 + N.
+constexpr int kExitSignalBase = 128;
+
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void request_stop(int signal_number) {
+  g_stop_signal.store(signal_number);
+  std::signal(signal_number, SIG_DFL);  // the second Ctrl-C is not ignored
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // file writes in progress go on rather than fail with EINTR
+  for (int s : {SIGINT, SIGTERM}) sigaction(s, &action, nullptr);
+}
+
+const char* signal_name(int s) { return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal"; }
+
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
@@ -51,7 +83,20 @@ int cmd_run(int argc, char** argv) {
                options.out_dir.string());
   // The configuration as actually used goes to the log file, not the terminal.
   log_to_file_only("configuration in use:\n" + hazmap::to_yaml(config));
+  install_stop_handlers();
+  options.stop_signal = &g_stop_signal;
   const hazmap::RunResult result = hazmap::run_sequence(config, sequence, options);
+  if (result.stop_signal != 0) {
+    const std::string line =
+        std::string("stopped by ") + signal_name(result.stop_signal) +
+        (result.stopped_after.empty() ? std::string(" before the first frame")
+                                      : " after frame " + result.stopped_after) +
+        " (" + std::to_string(result.frames_processed) + " frames processed, " +
+        std::to_string(result.frames_written) + " written, all complete)";
+    log_to_file_only(line, true);
+    std::fprintf(stderr, "hazmap: %s\n", line.c_str());
+    return kExitSignalBase + result.stop_signal;
+  }
   spdlog::info("done: {} frames, {} points; wrote {} frame folders under {}",
                result.frames_processed, result.points_total, result.frames_written,
                (options.out_dir / "frames").string());

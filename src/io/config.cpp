@@ -168,6 +168,9 @@ void parse_output(YamlMap m, OutputConfig& o) {
   m.get("every_n", o.every_n);
   m.get("png", o.png);
   m.get("jdem", o.jdem);
+  m.get("format", o.format);
+  one_of(m, "format", o.format, {"jdem", "geotiff", "both"});
+  m.get("queue_frames", o.queue_frames);
   m.get("png_min_size", o.png_min_size);
   m.get("mosaic", o.mosaic);
   m.finish();
@@ -341,6 +344,9 @@ void validate(const Config& c) {
   if (!(s.band_max_depth_m >= 0 && std::isfinite(s.band_max_depth_m)))
     invalid("stereo.band_max_depth", "must be finite and >= 0");
   if (c.output.every_n < 1) invalid("output.every_n", "must be >= 1");
+  if (c.output.queue_frames < 0 || c.output.queue_frames > kMaxOutputQueueFrames)
+    invalid("output.queue_frames",
+            "must be in [0, " + std::to_string(kMaxOutputQueueFrames) + "] (0: synchronous)");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
 }
@@ -440,6 +446,8 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "every_n" << YAML::Value << c.output.every_n
       << YAML::Key << "png" << YAML::Value << c.output.png
       << YAML::Key << "jdem" << YAML::Value << c.output.jdem
+      << YAML::Key << "format" << YAML::Value << c.output.format
+      << YAML::Key << "queue_frames" << YAML::Value << c.output.queue_frames
       << YAML::Key << "png_min_size" << YAML::Value << c.output.png_min_size
       << YAML::Key << "mosaic" << YAML::Value << c.output.mosaic << YAML::EndMap;
   out << YAML::EndMap;

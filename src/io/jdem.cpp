@@ -1,6 +1,7 @@
 #include "hazmap/io/jdem.hpp"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -68,6 +69,10 @@ std::string format_jdem(const JdemGrid& grid) {
   out += "nodata: " + grid.nodata + "\n";
   for (const auto& [key, value] : grid.metadata) out += key + ": " + value + "\n";
   out += "data:\n";
+  // The text of printf's "%.9g" (9 significant digits: every float reads back exactly),
+  // through std::to_chars, which produces the same characters without printf's format
+  // parsing and locale: a 1000 x 1000 grid is written several times faster.
+  constexpr int kSignificantDigits = 9;
   char buf[32];
   for (int r = 0; r < grid.rows; ++r) {
     for (int c = 0; c < grid.cols; ++c) {
@@ -76,8 +81,9 @@ std::string format_jdem(const JdemGrid& grid) {
       if (std::isnan(v)) {
         out += grid.nodata;
       } else {
-        std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
-        out += buf;
+        const auto written = std::to_chars(buf, buf + sizeof buf, static_cast<double>(v),
+                                           std::chars_format::general, kSignificantDigits);
+        out.append(buf, written.ptr);
       }
     }
     out += '\n';

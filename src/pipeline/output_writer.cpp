@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/images.hpp"
 
 namespace hazmap {
@@ -37,7 +38,51 @@ std::string metres(double v) {
   return buf;
 }
 
+/// One grid file in the configured format(s); `stem` without extension.
+void write_grid(const std::filesystem::path& dir, const std::string& stem, const JdemGrid& grid,
+                const OutputConfig& output) {
+  if (output.format == "jdem" || output.format == "both") write_jdem(dir / (stem + ".jdem"), grid);
+  if (output.format == "geotiff" || output.format == "both")
+    write_geotiff(dir / (stem + ".tif"), grid);
+}
+
+/// Copy assignment keeps `to`'s buffer when it is large enough: no allocation per frame.
+void copy_grid(const DenseGrid& from, DenseGrid& to) { to = from; }
+
 }  // namespace
+
+void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_name,
+                           const Pose3d& T_W_B, FrameOutputs& into) {
+  const MapConfig& map = pipeline.config().map;
+  into.frame_name = frame_name;
+  into.robot_x_m = T_W_B.translation().x();
+  into.robot_y_m = T_W_B.translation().y();
+  const auto& views = pipeline.layers();
+  into.layers.resize(views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    const LayerView& v = views[i];
+    LayerOutputs& l = into.layers[i];
+    copy_grid(v.hazard, l.hazard);
+    copy_grid(v.map.height, l.height);
+    copy_grid(v.map.variance, l.variance);
+    l.published_extra_variance_m2 = pipeline.hazard_params().layers[i].published_extra_variance_m2;
+    if (v.map.slope_x.rows > 0) {
+      copy_grid(v.map.slope_x, l.slope_x);
+      copy_grid(v.map.slope_y, l.slope_y);
+    } else {
+      l.slope_x.rows = l.slope_y.rows = 0;
+      l.slope_x.values.clear();  // keeps the capacity
+      l.slope_y.values.clear();
+    }
+    l.resolution_m = map.layers[i].resolution_m;
+    l.rule = map.layers[i].rule;
+  }
+  const PlannerMaps& planner = pipeline.planner_maps();
+  copy_grid(planner.fused, into.fused);
+  copy_grid(planner.clearance, into.clearance);
+  copy_grid(planner.footprint, into.footprint);
+  copy_grid(planner.hazard_distance, into.hazard_distance);
+}
 
 HazardAreas hazard_areas(const DenseGrid& hazard) {
   HazardAreas a;
@@ -70,13 +115,18 @@ JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::
 cv::Mat render_hazard(const DenseGrid& hazard, int min_size, double robot_x_m, double robot_y_m) {
   const int k = cell_pixels(hazard, min_size);
   cv::Mat image(hazard.rows * k, hazard.cols * k, CV_8UC3);
+  // Pixel by pixel through row pointers: a setTo on a k x k sub-image per cell cost
+  // ~100 ms for a 512 x 512 grid, most of a frame's PNG time.
   for (int r = 0; r < hazard.rows; ++r)
-    for (int c = 0; c < hazard.cols; ++c) {
-      const auto cls = static_cast<HazardClass>(static_cast<int>(hazard.at(r, c)));
-      const cv::Vec3b colour = cls == HazardClass::hazard        ? kHazardBgr
-                               : cls == HazardClass::traversable ? kTraversableBgr
-                                                                 : kUnknownBgr;
-      image(cv::Rect(c * k, r * k, k, k)).setTo(colour);
+    for (int i = 0; i < k; ++i) {
+      cv::Vec3b* out = image.ptr<cv::Vec3b>(r * k + i);
+      for (int c = 0; c < hazard.cols; ++c) {
+        const auto cls = static_cast<HazardClass>(static_cast<int>(hazard.at(r, c)));
+        const cv::Vec3b colour = cls == HazardClass::hazard        ? kHazardBgr
+                                 : cls == HazardClass::traversable ? kTraversableBgr
+                                                                   : kUnknownBgr;
+        for (int j = 0; j < k; ++j) *out++ = colour;
+      }
     }
   draw_robot(image, hazard, k, robot_x_m, robot_y_m);
   return image;
@@ -139,10 +189,10 @@ cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, d
   return canvas;
 }
 
-cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std::string& frame_name,
-                      double robot_x_m, double robot_y_m) {
+cv::Mat render_mosaic(const FrameOutputs& frame) {
   constexpr int kTile = 320, kTitle = 28, kGap = 8;
-  const auto& views = pipeline.layers();
+  const auto& views = frame.layers;
+  const double robot_x_m = frame.robot_x_m, robot_y_m = frame.robot_y_m;
   const int columns = static_cast<int>(views.size()) + 1;
   cv::Mat canvas(kTitle + 2 * (kTile + kTitle) + kGap, columns * (kTile + kGap) + kGap, CV_8UC3,
                  cv::Scalar(30, 30, 30));
@@ -157,64 +207,66 @@ cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std:
     cv::putText(canvas, title, cv::Point(x, y - 8), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1,
                 cv::LINE_AA);
   };
-  cv::putText(canvas, "frame " + frame_name, cv::Point(kGap, 20), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+  cv::putText(canvas, "frame " + frame.frame_name, cv::Point(kGap, 20), cv::FONT_HERSHEY_SIMPLEX, 0.6,
               text, 1, cv::LINE_AA);
   for (size_t i = 0; i < views.size(); ++i) {
     char title[96];
-    std::snprintf(title, sizeof title, "L%zu  %g cm  %s", i, map.layers[i].resolution_m * 100,
-                  rule_name(map.layers[i].rule));
+    std::snprintf(title, sizeof title, "L%zu  %g cm  %s", i, views[i].resolution_m * 100,
+                  rule_name(views[i].rule));
     place(render_hazard(views[i].hazard, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 0,
           title);
-    place(render_height(views[i].map.height, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 1,
+    place(render_height(views[i].height, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 1,
           std::string(title) + "  height");
   }
-  place(render_hazard(pipeline.fused_hazard(), kTile, robot_x_m, robot_y_m), columns - 1, 0,
-        "fused hazard");
-  place(render_hazard(pipeline.planner_maps().footprint, kTile, robot_x_m, robot_y_m), columns - 1,
-        1, "footprint");
+  place(render_hazard(frame.fused, kTile, robot_x_m, robot_y_m), columns - 1, 0, "fused hazard");
+  place(render_hazard(frame.footprint, kTile, robot_x_m, robot_y_m), columns - 1, 1, "footprint");
   return canvas;
+}
+
+void write_frame_outputs(const std::filesystem::path& dir, const FrameOutputs& frame,
+                         const OutputConfig& output) {
+  const double rx = frame.robot_x_m, ry = frame.robot_y_m;
+  const std::string& name = frame.frame_name;
+  for (size_t i = 0; i < frame.layers.size(); ++i) {
+    const std::string prefix = "L" + std::to_string(i) + "_";
+    const LayerOutputs& v = frame.layers[i];
+    if (output.png) {
+      write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, output.png_min_size, rx, ry));
+      write_png(dir / (prefix + "height.png"), render_height(v.height, output.png_min_size, rx, ry));
+    }
+    if (output.jdem) {
+      write_grid(dir, prefix + "height", to_jdem(v.height, "height", "m", name), output);
+      JdemGrid variance = to_jdem(v.variance, "variance", "m^2", name);
+      const double extra = v.published_extra_variance_m2;
+      for (float& value : variance.values) value = static_cast<float>(value + extra);  // NaN stays NaN
+      write_grid(dir, prefix + "variance", variance, output);
+      write_grid(dir, prefix + "hazard", to_jdem(v.hazard, "hazard", "class", name), output);
+      if (v.slope_x.rows > 0) {  // CCM: h + slope_x dx + slope_y dy is the sub-cell surface
+        write_grid(dir, prefix + "slope_x", to_jdem(v.slope_x, "slope_x", "m/m", name), output);
+        write_grid(dir, prefix + "slope_y", to_jdem(v.slope_y, "slope_y", "m/m", name), output);
+      }
+    }
+  }
+  if (output.png) {
+    write_png(dir / "fused_hazard.png", render_hazard(frame.fused, output.png_min_size, rx, ry));
+    write_png(dir / "footprint_hazard.png",
+              render_hazard(frame.footprint, output.png_min_size, rx, ry));
+  }
+  if (output.jdem) {
+    write_grid(dir, "fused_hazard", to_jdem(frame.fused, "hazard", "class", name), output);
+    write_grid(dir, "fused_clearance", to_jdem(frame.clearance, "clearance", "m", name), output);
+    write_grid(dir, "footprint_hazard", to_jdem(frame.footprint, "hazard", "class", name), output);
+    write_grid(dir, "hazard_distance", to_jdem(frame.hazard_distance, "distance", "m", name),
+               output);
+  }
 }
 
 void write_frame_outputs(const std::filesystem::path& dir, const std::string& frame_name,
                          const Pipeline& pipeline, const Pose3d& T_W_B,
                          const OutputConfig& output) {
-  const double rx = T_W_B.translation().x(), ry = T_W_B.translation().y();
-  const auto& views = pipeline.layers();
-  for (size_t i = 0; i < views.size(); ++i) {
-    const std::string prefix = "L" + std::to_string(i) + "_";
-    const LayerView& v = views[i];
-    if (output.png) {
-      write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, output.png_min_size, rx, ry));
-      write_png(dir / (prefix + "height.png"), render_height(v.map.height, output.png_min_size, rx, ry));
-    }
-    if (output.jdem) {
-      write_jdem(dir / (prefix + "height.jdem"), to_jdem(v.map.height, "height", "m", frame_name));
-      JdemGrid variance = to_jdem(v.map.variance, "variance", "m^2", frame_name);
-      const double extra = pipeline.hazard_params().layers[i].published_extra_variance_m2;
-      for (float& value : variance.values) value = static_cast<float>(value + extra);  // NaN stays NaN
-      write_jdem(dir / (prefix + "variance.jdem"), variance);
-      write_jdem(dir / (prefix + "hazard.jdem"), to_jdem(v.hazard, "hazard", "class", frame_name));
-      if (v.map.slope_x.rows > 0) {  // CCM: h + slope_x dx + slope_y dy is the sub-cell surface
-        write_jdem(dir / (prefix + "slope_x.jdem"), to_jdem(v.map.slope_x, "slope_x", "m/m", frame_name));
-        write_jdem(dir / (prefix + "slope_y.jdem"), to_jdem(v.map.slope_y, "slope_y", "m/m", frame_name));
-      }
-    }
-  }
-  const PlannerMaps& planner = pipeline.planner_maps();
-  if (output.png) {
-    write_png(dir / "fused_hazard.png", render_hazard(planner.fused, output.png_min_size, rx, ry));
-    write_png(dir / "footprint_hazard.png",
-              render_hazard(planner.footprint, output.png_min_size, rx, ry));
-  }
-  if (output.jdem) {
-    write_jdem(dir / "fused_hazard.jdem", to_jdem(planner.fused, "hazard", "class", frame_name));
-    write_jdem(dir / "fused_clearance.jdem",
-               to_jdem(planner.clearance, "clearance", "m", frame_name));
-    write_jdem(dir / "footprint_hazard.jdem",
-               to_jdem(planner.footprint, "hazard", "class", frame_name));
-    write_jdem(dir / "hazard_distance.jdem",
-               to_jdem(planner.hazard_distance, "distance", "m", frame_name));
-  }
+  FrameOutputs frame;
+  capture_frame_outputs(pipeline, frame_name, T_W_B, frame);
+  write_frame_outputs(dir, frame, output);
 }
 
 }  // namespace hazmap

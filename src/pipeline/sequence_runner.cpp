@@ -8,6 +8,7 @@
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/output_writer.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
@@ -23,7 +24,8 @@ struct FrameRecord {
   size_t points = 0;
   size_t points_below_ground = 0;  ///< SPEC 3.3, not in `points`
   size_t disparities_unsupported = 0;
-  double read_ms = 0, write_ms = 0;
+  double read_ms = 0;
+  double write_ms = 0;  ///< the loop's share: copying out the grids (+ waiting for a slot)
   StageTimes ms;
   bool written = false;
   std::vector<HazardAreas> areas;  ///< per layer, then fused, footprint (written frames only)
@@ -31,13 +33,24 @@ struct FrameRecord {
   std::vector<GateCounts> layer_gates;  ///< each layer's SPEC 4 gate drops
 };
 
+/// How the run ended, for the summary.
+struct RunState {
+  bool finished = false;
+  int stop_signal = 0;
+  FrameWriter::Stats writer;
+};
+
 void write_summary(const std::filesystem::path& path, const Config& config,
                    const RunOptions& options, const std::vector<FrameRecord>& frames,
-                   int frames_total, bool finished) {
+                   int frames_total, const RunState& state) {
   JsonWriter j;
   j.begin_object();
   j.key("hazmap_version").value(HAZMAP_VERSION);
-  j.key("finished").value(finished);
+  j.key("finished").value(state.finished);
+  if (state.stop_signal != 0) {
+    j.key("stopped_by_signal").value(state.stop_signal);
+    j.key("stopped_after_frame").value(frames.empty() ? std::string() : frames.back().name);
+  }
   j.key("sequence").value(options.sequence_dir.string());
   j.key("config").value(options.config_path.string());
   j.key("frames_selected").value(frames_total);
@@ -70,6 +83,18 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("hazard").value(sum.hazard_ms / n);
   j.key("write").value(write / n);
   j.key("total").value((read + sum.total() + write) / n);
+  j.end_object();
+  j.key("output").begin_object();  // `write` above is the loop's share; this the writer's
+  j.key("format").value(config.output.format);
+  j.key("queue_frames").value(config.output.queue_frames);
+  j.key("frames_written").value(state.writer.frames_written);
+  j.key("writer_ms_per_written_frame")
+      .value(state.writer.frames_written ? state.writer.write_ms / state.writer.frames_written
+                                         : 0.0);
+  j.key("writer_cpu_ms_per_written_frame")
+      .value(state.writer.frames_written ? state.writer.write_cpu_ms / state.writer.frames_written
+                                         : 0.0);
+  j.key("loop_wait_ms_total").value(state.writer.wait_ms);
   j.end_object();
   j.key("map_ns_per_point").value(points ? sum.map_ms * 1e6 / static_cast<double>(points) : 0.0);
   j.key("layers").begin_array();
@@ -141,6 +166,10 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   write_file_atomically(path, j.str());
 }
 
+bool stop_requested(const RunOptions& options) {
+  return options.stop_signal != nullptr && options.stop_signal->load() != 0;
+}
+
 }  // namespace
 
 RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
@@ -158,14 +187,33 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     spdlog::info("ground band: {}", describe_strips(band->strips()));
 
   RunResult result;
+  RunState state;
   std::vector<FrameRecord> records;
   records.reserve(frames.size());
+  FrameWriter writer(options.out_dir, config.output);
+  // Hands the pipeline's current outputs to the writer and books them in `rec`.
+  auto write_frame = [&](const SequenceFrame& frame, FrameRecord& rec) {
+    const auto t = Clock::now();
+    capture_frame_outputs(pipeline, frame.name, frame.pose.T_W_B, writer.acquire());
+    writer.submit();
+    for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
+    rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
+    rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
+    rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+    rec.written = true;
+    result.written.push_back(options.out_dir / "frames" / frame.name);
+    ++result.frames_written;
+  };
+
   const int n = static_cast<int>(frames.size());
+  int last = -1;  // index of the last frame processed
   for (int i = 0; i < n; ++i) {
+    // A stop request ends the run between frames: the frame in flight was finished.
+    if (stop_requested(options)) break;
     const SequenceFrame& frame = frames[static_cast<size_t>(i)];
     FrameRecord rec;
     rec.name = frame.name;
-    auto t = Clock::now();
+    const auto t = Clock::now();
     const cv::Mat left = read_image(frame.left_path);
     const cv::Mat right = read_image(frame.right_path);
     rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -176,6 +224,7 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     } catch (const Error& e) {
       throw Error(frame.left_path.string() + ": " + e.what());
     }
+    last = i;
     rec.points = report.points;
     rec.ms = report.ms;
     rec.layer_map_ms = pipeline.layer_map_ms();
@@ -183,24 +232,7 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     rec.disparities_unsupported = report.disparities_unsupported;
     rec.layer_gates = pipeline.layer_gates();
 
-    const bool write = i % config.output.every_n == 0 || i == n - 1;
-    if (write) {
-      t = Clock::now();
-      const std::filesystem::path dir = options.out_dir / "frames" / frame.name;
-      write_frame_outputs(dir, frame.name, pipeline, frame.pose.T_W_B, config.output);
-      if (config.output.mosaic) {
-        const Eigen::Vector3d p = frame.pose.T_W_B.translation();
-        write_png(options.out_dir / "mosaic" / (frame.name + ".png"),
-                  render_mosaic(pipeline, config.map, frame.name, p.x(), p.y()));
-      }
-      for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
-      rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
-      rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
-      rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-      rec.written = true;
-      result.written.push_back(dir);
-      ++result.frames_written;
-    }
+    if (i % config.output.every_n == 0 || i == n - 1) write_frame(frame, rec);
     result.points_total += report.points;
     ++result.frames_processed;
     spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
@@ -210,8 +242,22 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
                  report.ms.disparity_ms, report.ms.points_ms, report.ms.map_ms,
                  report.ms.hazard_ms, rec.write_ms);
     records.push_back(std::move(rec));
-    write_summary(options.out_dir / "summary.json", config, options, records, n, i == n - 1);
+    state.writer = writer.stats();
+    write_summary(options.out_dir / "summary.json", config, options, records, n, state);
   }
+  if (last < n - 1 && stop_requested(options)) {  // stopped early
+    result.stop_signal = options.stop_signal->load();
+    if (last >= 0) {
+      result.stopped_after = frames[static_cast<size_t>(last)].name;
+      // Like the last frame of a whole run, the last one processed is always written.
+      if (!records.back().written) write_frame(frames[static_cast<size_t>(last)], records.back());
+    }
+  }
+  writer.finish();
+  state.finished = result.stop_signal == 0;
+  state.stop_signal = result.stop_signal;
+  state.writer = writer.stats();
+  write_summary(options.out_dir / "summary.json", config, options, records, n, state);
   return result;
 }
 

@@ -1,6 +1,9 @@
 #include "hazmap/io/jdem.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
 #include <fstream>
 #include <random>
 
@@ -148,6 +151,38 @@ TEST(Jdem, WriterRejectsInconsistentSize) {
   JdemGrid g = random_grid(2, 2, 3);
   g.values.pop_back();
   EXPECT_THROW(format_jdem(g), Error);
+}
+
+// The data lines are exactly what printf("%.9g") printed before the writer used
+// std::to_chars: outputs stay byte-identical. Random bit patterns cover every exponent,
+// subnormals and the values near the switch between fixed and exponent notation.
+TEST(Jdem, ValuesAreWrittenExactlyAsPrintfPercentNineG) {
+  std::mt19937 rng(20);
+  std::vector<float> values = {0.0f, -0.0f, 1.0f, 2.0f, 0.0001f, 0.00001f, 123456789.0f,
+                               1e9f, 99999.9922f, std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::max(),
+                               std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity()};
+  while (values.size() < 200000) {
+    const std::uint32_t bits = static_cast<std::uint32_t>(rng());
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isnan(v)) values.push_back(v);
+  }
+  JdemGrid g;
+  g.rows = 1;
+  g.cols = static_cast<int>(values.size());
+  g.resolution_m = 1;
+  g.values = values;
+  const std::string text = format_jdem(g);
+  std::string expected;
+  char buf[64];
+  for (size_t i = 0; i < values.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(values[i]));
+    expected += (i ? " " : "") + std::string(buf);
+  }
+  const size_t data = text.find("data:\n") + 6;
+  ASSERT_EQ(text.substr(data), expected + "\n");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 #include <random>
 
@@ -11,7 +12,12 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/io/images.hpp"
+#include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/hazard_stage.hpp"
+#include "hazmap/pipeline/pipeline.hpp"
+#include "test_support.hpp"
 
 namespace {
 std::atomic<long> g_news{0};
@@ -113,6 +119,42 @@ TEST(Allocation, PerFramePathAllocatesNothingAfterTheFirstFrame) {
   run("all_layers", false);
   run("finest_then_pool", false);
   run("all_layers", true);
+}
+
+}  // namespace
+}  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+// The frame loop's share of writing (issue 20): copying a frame's grids into a writer
+// slot reuses the slot's buffers once they have grown, frame after frame.
+TEST(Allocation, HandingAFrameToTheWriterAllocatesNothingOnceWarm) {
+  const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
+  Config config = load_config(testing::source_dir() / "config/default.yaml");
+  config.map.layers.push_back(config.map.layers.front());  // and a CCM layer with slopes
+  config.map.layers.back().rule = RuleKind::ccm;
+  config.map.layers.back().resolution_m = 0.04;
+  config.map.layers.back().size = 32;
+  Pipeline pipeline(config, seq.calibration);
+  const auto& f = seq.frames.front();
+  pipeline.process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
+  OutputConfig output;
+  output.queue_frames = 1;
+  FrameWriter writer(testing::TempDir().path(), output);  // a folder never written: no submit
+  FrameOutputs& slot = writer.acquire();
+  capture_frame_outputs(pipeline, f.name, f.pose.T_W_B, slot);  // warm: buffers grow
+  const long before = g_news.load();
+  for (int i = 0; i < 3; ++i) capture_frame_outputs(pipeline, f.name, f.pose.T_W_B, slot);
+  EXPECT_EQ(g_news.load() - before, 0);
+  ASSERT_EQ(slot.layers.size(), 2u);
+  EXPECT_GT(slot.layers[1].slope_x.rows, 0);
+  // A copy, not a view: equal bytes in a buffer of its own.
+  const std::vector<float>& held = pipeline.layers()[0].map.height.values;
+  ASSERT_EQ(slot.layers[0].height.values.size(), held.size());
+  EXPECT_EQ(std::memcmp(slot.layers[0].height.values.data(), held.data(), held.size() * sizeof(float)),
+            0);
+  EXPECT_NE(slot.layers[0].height.values.data(), pipeline.layers()[0].map.height.values.data());
 }
 
 }  // namespace

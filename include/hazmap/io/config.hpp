@@ -145,10 +145,19 @@ struct PoseUncertaintyConfig {
   bool enabled = false;
 };
 
+/// Upper bound of output.queue_frames: each queued frame holds a copy of every grid.
+constexpr int kMaxOutputQueueFrames = 64;
+
 struct OutputConfig {
   int every_n = 1;        ///< write every n-th frame (and always the last)
   bool png = true;
-  bool jdem = true;
+  bool jdem = true;       ///< write the grid files (in `format`)
+  /// Grid file format: "jdem" (text, SPEC 9), "geotiff" (float32, DEFLATE, GDAL) or
+  /// "both" (e.g. GeoTIFF for GIS tools and JDEM for `hazmap evaluate`).
+  std::string format = "jdem";
+  /// Finished frames waiting for the writer thread; the frame loop waits only when this
+  /// many are queued. 0: write on the frame loop's thread (synchronous).
+  int queue_frames = 2;
   int png_min_size = 512; ///< PNGs are scaled up by whole pixels per cell to at least this
   bool mosaic = false;    ///< also OUT/mosaic/<frame>.png: every layer side by side
 };

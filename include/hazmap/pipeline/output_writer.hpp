@@ -1,9 +1,12 @@
 #pragma once
-// Per-frame outputs (SPEC 9): hazard and height PNGs, JDEM grids, all written
-// atomically into OUT/frames/<frame>/.
+// Per-frame outputs (SPEC 9): hazard and height PNGs, JDEM or GeoTIFF grids, all
+// written atomically into OUT/frames/<frame>/. The frame loop copies what a frame
+// writes into a FrameOutputs (capture_frame_outputs, no allocation once its buffers
+// have grown) so that the writing can happen on another thread (frame_writer.hpp).
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -21,6 +24,30 @@ struct HazardAreas {
 
 HazardAreas hazard_areas(const DenseGrid& hazard);
 
+/// One layer's grids as a frame publishes them.
+struct LayerOutputs {
+  DenseGrid hazard;
+  DenseGrid height;
+  DenseGrid variance;                ///< as the map holds it; the writer adds the extra
+  double published_extra_variance_m2 = 0.0;
+  DenseGrid slope_x, slope_y;        ///< CCM layers only (rows 0 otherwise)
+  double resolution_m = 0.0;         ///< for the mosaic's titles
+  RuleKind rule = RuleKind::kalman;
+};
+
+/// Everything one frame writes, copied out of the pipeline.
+struct FrameOutputs {
+  std::string frame_name;
+  double robot_x_m = 0.0, robot_y_m = 0.0;
+  std::vector<LayerOutputs> layers;
+  DenseGrid fused, clearance, footprint, hazard_distance;
+};
+
+/// Copies the pipeline's current outputs into `into`, reusing its buffers (copy
+/// assignment of equal-sized grids does not allocate).
+void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_name,
+                           const Pose3d& T_W_B, FrameOutputs& into);
+
 /// A dense grid as a JDEM grid (same layout: row 0 = largest y); `frame_name` becomes
 /// the `frame` metadata key unless it is empty.
 JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::string& units,
@@ -37,10 +64,14 @@ cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, d
 
 /// One image tiling every layer (hazard on top, height below) and the fused hazard map,
 /// each tile titled with layer, resolution and rule, for flipping through a run.
-cv::Mat render_mosaic(const Pipeline& pipeline, const MapConfig& map, const std::string& frame_name,
-                      double robot_x_m, double robot_y_m);
+cv::Mat render_mosaic(const FrameOutputs& frame);
 
-/// Writes every output file of one frame into `frame_dir`.
+/// Writes every output file of one frame into `frame_dir` (PNGs, and the grids in
+/// output.format: `<name>.jdem` and/or `<name>.tif`), each file atomically.
+void write_frame_outputs(const std::filesystem::path& frame_dir, const FrameOutputs& frame,
+                         const OutputConfig& output);
+
+/// The same straight from a pipeline (capture, then write).
 void write_frame_outputs(const std::filesystem::path& frame_dir, const std::string& frame_name,
                          const Pipeline& pipeline, const Pose3d& T_W_B,
                          const OutputConfig& output);

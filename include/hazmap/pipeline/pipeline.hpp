@@ -48,6 +48,7 @@ class Pipeline {
   FrameReport process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                       const PoseNoise& noise = {});
 
+  const Config& config() const { return config_; }
   const std::vector<LayerView>& layers() const { return hazards_.layers(); }
   const DenseGrid& fused_hazard() const { return hazards_.planner_maps().fused; }
   const PlannerMaps& planner_maps() const { return hazards_.planner_maps(); }
