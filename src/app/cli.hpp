@@ -61,6 +61,7 @@ int cmd_simulate(int argc, char** argv);
 int cmd_evaluate(int argc, char** argv);
 int cmd_calibrate(int argc, char** argv);
 int cmd_import_euroc(int argc, char** argv);
+int cmd_ground_truth(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
 
 }  // namespace hazmap::cli

@@ -31,6 +31,8 @@ const Command kCommands[] = {
     {"calibrate", hazmap::cli::cmd_calibrate,
      "--images DIR --board 9x6 --square 0.025 --out calibration.yaml"},
     {"import-euroc", hazmap::cli::cmd_import_euroc, "SRC DST   ASL/EuRoC folder to our layout"},
+    {"ground-truth", hazmap::cli::cmd_ground_truth,
+     "--cloud FILE --out DIR [--resolution R]   laser scan -> gt_height/gt_hazard"},
     {"bench", hazmap::cli::cmd_bench,
      "[--config FILE] [--sequence DIR] [--frames N] [--repetitions R]   frame timing vs StereoBM"},
 };

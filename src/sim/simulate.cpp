@@ -1,5 +1,6 @@
 #include "hazmap/sim/simulate.hpp"
 
+
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/eval/ground_truth.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/jdem.hpp"
 
@@ -250,26 +252,6 @@ std::vector<unsigned char> encode_png(const cv::Mat& image, int compression) {
 
 // Ground-truth grid over [x0, x1] x [y0, y1], cell borders on multiples of the resolution
 // (SPEC 1) and an even number of cells per axis, so the centre is a cell corner.
-struct GridFrame {
-  Eigen::Vector2d center_W;
-  int rows = 0;
-  int cols = 0;
-};
-
-GridFrame aligned_grid(double x0, double x1, double y0, double y1, double resolution_m) {
-  auto axis = [&](double lo, double hi, double& center, int& cells) {
-    // The 1e-9 slack keeps -0.3 / 0.01 = -29.999999999999996 on lattice line -30.
-    const double first = std::floor(lo / resolution_m + 1e-9);
-    cells = static_cast<int>(std::ceil(hi / resolution_m - 1e-9) - first);
-    cells += cells % 2;
-    center = (first + 0.5 * cells) * resolution_m;
-  };
-  GridFrame grid;
-  axis(x0, x1, grid.center_W.x(), grid.cols);
-  axis(y0, y1, grid.center_W.y(), grid.rows);
-  return grid;
-}
-
 // Independent random streams from the one user seed: the first draws of a mt19937_64.
 // New streams are appended, so older ones keep their values.
 struct Seeds {
@@ -553,18 +535,19 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
     Eigen::Vector2d lo, hi;
     path_bounds(true_points, lo, hi);
     const double m = options.ground_truth_margin_m;
-    const GridFrame g = aligned_grid(lo.x() - m, hi.x() + m, lo.y() - m, hi.y() + m,
-                                     options.ground_truth_resolution_m);
+    const JdemGrid g = aligned_ground_truth_grid("height", lo.x() - m, hi.x() + m, lo.y() - m,
+                                                 hi.y() + m, options.ground_truth_resolution_m);
+    const Eigen::Vector2d center_W(g.center_x_m, g.center_y_m);
     const std::vector<std::pair<std::string, std::string>> metadata = {
         {"source", "hazmap simulate"},
         {"scenario", options.scenario},
         {"seed", std::to_string(options.seed)}};
     JdemGrid height =
-        terrain.ground_truth_height(options.ground_truth_resolution_m, g.center_W, g.rows, g.cols);
+        terrain.ground_truth_height(options.ground_truth_resolution_m, center_W, g.rows, g.cols);
     height.metadata = metadata;
     write_jdem(out_dir / "gt_height.jdem", height);
     JdemGrid hazard =
-        terrain.ground_truth_hazard(options.ground_truth_resolution_m, g.center_W, g.rows, g.cols);
+        terrain.ground_truth_hazard(options.ground_truth_resolution_m, center_W, g.rows, g.cols);
     hazard.metadata = metadata;
     write_jdem(out_dir / "gt_hazard.jdem", hazard);
   }

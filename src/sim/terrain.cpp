@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/eval/ground_truth.hpp"
 
 namespace hazmap::sim {
 namespace {
@@ -60,36 +61,6 @@ inline double rock_cap_height(const Rock& rock, const Eigen::Vector3d& center_W,
   const double r2 = rock.radius_m * rock.radius_m - dx * dx - dy * dy;
   if (r2 <= 0.0) return -std::numeric_limits<double>::infinity();
   return center_W.z() + std::sqrt(r2);
-}
-
-JdemGrid make_grid(const std::string& quantity, double resolution_m,
-                   const Eigen::Vector2d& center_W, int rows, int cols) {
-  check(resolution_m > 0.0 && std::isfinite(resolution_m),
-        "ground truth: resolution must be positive");
-  check(rows > 0 && cols > 0, "ground truth: rows and cols must be positive");
-  JdemGrid grid;
-  grid.quantity = quantity;
-  grid.units = "m";
-  grid.rows = rows;
-  grid.cols = cols;
-  grid.resolution_m = resolution_m;
-  grid.center_x_m = center_W.x();
-  grid.center_y_m = center_W.y();
-  grid.yaw_rad = 0.0;
-  grid.values.assign(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols), 0.0f);
-  return grid;
-}
-
-// Calls f(row, col, x, y) for each cell centre in JDEM order.
-template <typename F>
-void for_each_cell_center(const JdemGrid& grid, F&& f) {
-  for (int row = 0; row < grid.rows; ++row) {
-    const double y_m = grid.center_y_m + (0.5 * (grid.rows - 1) - row) * grid.resolution_m;
-    for (int col = 0; col < grid.cols; ++col) {
-      const double x_m = grid.center_x_m + (col - 0.5 * (grid.cols - 1)) * grid.resolution_m;
-      f(row, col, x_m, y_m);
-    }
-  }
 }
 
 }  // namespace
@@ -251,7 +222,7 @@ Eigen::Vector3d Terrain::ground_normal_W(double x_m, double y_m) const {
 
 JdemGrid Terrain::ground_truth_height(double resolution_m, const Eigen::Vector2d& center_W,
                                       int rows, int cols) const {
-  JdemGrid grid = make_grid("height", resolution_m, center_W, rows, cols);
+  JdemGrid grid = ground_truth_grid("height", resolution_m, center_W, rows, cols);
   for_each_cell_center(grid, [&](int row, int col, double x_m, double y_m) {
     grid.at(row, col) = static_cast<float>(height_m(x_m, y_m));
   });
@@ -260,10 +231,10 @@ JdemGrid Terrain::ground_truth_height(double resolution_m, const Eigen::Vector2d
 
 JdemGrid Terrain::ground_truth_hazard(double resolution_m, const Eigen::Vector2d& center_W,
                                       int rows, int cols) const {
-  JdemGrid grid = make_grid("hazard", resolution_m, center_W, rows, cols);
+  JdemGrid grid = ground_truth_grid("hazard", resolution_m, center_W, rows, cols);
   for_each_cell_center(grid, [&](int row, int col, double x_m, double y_m) {
     grid.at(row, col) =
-        static_cast<float>(std::max(0.0, height_m(x_m, y_m) - ground_height_m(x_m, y_m)));
+        static_cast<float>(obstacle_height_m(height_m(x_m, y_m), ground_height_m(x_m, y_m)));
   });
   return grid;
 }

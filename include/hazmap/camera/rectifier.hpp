@@ -1,8 +1,10 @@
 #pragma once
 // Stereo rectification (SPEC 3.1). The undistort/rectify maps are computed once at
 // construction (cv::stereoRectify with CALIB_ZERO_DISPARITY, then
-// cv::initUndistortRectifyMap); per frame only cv::remap runs. Points triangulated from
-// rectified images live in the rectified left frame C'; p_C = R1^T p_C'.
+// cv::initUndistortRectifyMap; for JPL CAHV/CAHVOR/CAHVORE models stereoRectify on their
+// linear parts, maps through the full models); per frame only cv::remap runs. Points
+// triangulated from rectified images live in the rectified left frame C';
+// p_C = R1^T p_C'.
 // Thread safety: const methods may run concurrently.
 
 #include <vector>
@@ -51,6 +53,7 @@ class Rectifier {
   bool identity_ = false;
   cv::Mat map_left_x_, map_left_y_, map_right_x_, map_right_y_;
   cv::Mat K1_, D1_, K2_, D2_, R1_cv_, R2_cv_, P1_, P2_;
+  std::vector<CahvoreModel> models_;  ///< JPL models {left, right}, or empty
   StereoGeometry geometry_;
   Eigen::Matrix3d R1_ = Eigen::Matrix3d::Identity();
   cv::Rect valid_roi_;

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "hazmap/camera/cahvore.hpp"
 #include "hazmap/core/types.hpp"
 
 namespace hazmap {
@@ -27,7 +28,17 @@ struct StereoCalibration {
   Eigen::Vector3d T = Eigen::Vector3d::Zero();      ///< metres
   Pose3d T_B_C = Pose3d::Identity();                ///< left camera in body: p_B = T_B_C p_C
   bool rectified = false;  ///< images are already rectified: no remapping
+  /// JPL camera models {left, right} when calibration.yaml says `camera_model: cahv |
+  /// cahvor | cahvore`; empty for OpenCV's pinhole + distortion. With models, K above is
+  /// each model's linear (CAHV) part, D is empty, R, T and T_B_C are derived from the
+  /// models' C, A, H, V and T_B_M, and the rectifier maps pixels through the full models.
+  std::vector<CahvoreModel> models;
+  Pose3d T_B_M = Pose3d::Identity();  ///< the models' frame M in the body: p_B = T_B_M p_M
 };
+
+/// Fills K, D, R, T and T_B_C of `calibration` from its two models and T_B_M (see
+/// StereoCalibration::models). Throws Error prefixed by `source` on an unusable model.
+void derive_from_models(StereoCalibration& calibration, const std::string& source);
 
 /// Reads our calibration.yaml (SPEC 2). A file in OpenCV's FileStorage layout (it starts
 /// with `%YAML:1.0` or `<?xml`; keys M1 D1 M2 D2 R T and the image size) is read with
