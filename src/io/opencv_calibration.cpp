@@ -81,11 +81,8 @@ int read_int(const cv::FileNode& node, const std::filesystem::path& path, const 
                     path, key);
 }
 
-}  // namespace
-
-StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& path,
-                                                 const OpenCvCalibrationOptions& options,
-                                                 const std::filesystem::path& extrinsics) {
+StereoCalibration load(const std::filesystem::path& path, const OpenCvCalibrationOptions& options,
+                       const std::filesystem::path& extrinsics) {
   const cv::FileStorage fs = open(path);
   StereoCalibration c;
   c.left.K = matrix3(read_matrix(fs, path, "M1"), path, "M1");
@@ -134,8 +131,24 @@ StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& pa
   if (c.image_width <= 0 || c.image_height <= 0)
     fail(path, "image_width", "no image size in the file (image_width/image_height or imageSize) "
                               "and none given");
+  c.source = path.string();
   validate(c, path.string());
   return c;
+}
+
+}  // namespace
+
+StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& path,
+                                                 const OpenCvCalibrationOptions& options,
+                                                 const std::filesystem::path& extrinsics) {
+  // FileStorage asserts rather than reports on a file whose top level is not a map (a
+  // lone "-" after the header, measured by the parser fuzz test), and Rodrigues on odd
+  // input: those assertions become one line naming the file, not OpenCV's raw text.
+  try {
+    return load(path, options, extrinsics);
+  } catch (const cv::Exception& e) {
+    throw Error(path.string() + ": not a usable OpenCV calibration file (OpenCV: " + e.err + ")");
+  }
 }
 
 }  // namespace hazmap
