@@ -143,14 +143,30 @@ void write_summary(const std::filesystem::path& path, const Config& config,
 
 }  // namespace
 
-RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
-  const std::vector<SequenceFrame> frames =
-      options.frames.empty() ? sequence.frames : select_frames(sequence.frames, options.frames);
-  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
-               frames.size(), sequence.frames.size(), sequence.calibration.image_width,
-               sequence.calibration.image_height);
+SequenceRun::SequenceRun(const Config& config, const Sequence& sequence, const RunOptions& options)
+    : config_(config),
+      sequence_(sequence),
+      options_(options),
+      frames_(options.frames.empty() ? sequence.frames
+                                     : select_frames(sequence.frames, options.frames)) {
+  check_frame_images(frames_, sequence.calibration);
+  pipeline_ = std::make_unique<Pipeline>(config, sequence.calibration);
+}
 
-  Pipeline pipeline(config, sequence.calibration);
+SequenceRun::~SequenceRun() = default;
+
+RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
+  return SequenceRun(config, sequence, options).run();
+}
+
+RunResult SequenceRun::run() {
+  const Config& config = config_;
+  const RunOptions& options = options_;
+  const std::vector<SequenceFrame>& frames = frames_;
+  Pipeline& pipeline = *pipeline_;
+  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
+               frames.size(), sequence_.frames.size(), sequence_.calibration.image_width,
+               sequence_.calibration.image_height);
   const StereoGeometry& g = pipeline.rectifier().geometry();
   spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
                g.baseline_m, g.cx_px, g.cy_px);
@@ -163,55 +179,64 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
   const int n = static_cast<int>(frames.size());
   for (int i = 0; i < n; ++i) {
     const SequenceFrame& frame = frames[static_cast<size_t>(i)];
-    FrameRecord rec;
-    rec.name = frame.name;
-    auto t = Clock::now();
-    const cv::Mat left = read_image(frame.left_path);
-    const cv::Mat right = read_image(frame.right_path);
-    rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-
-    FrameReport report;
     try {
-      report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
-    } catch (const Error& e) {
-      throw Error(frame.left_path.string() + ": " + e.what());
-    }
-    rec.points = report.points;
-    rec.ms = report.ms;
-    rec.layer_map_ms = pipeline.layer_map_ms();
-    rec.points_below_ground = report.points_below_ground;
-    rec.disparities_unsupported = report.disparities_unsupported;
-    rec.layer_gates = pipeline.layer_gates();
+      FrameRecord rec;
+      rec.name = frame.name;
+      auto t = Clock::now();
+      const cv::Mat left = read_image(frame.left_path);
+      const cv::Mat right = read_image(frame.right_path);
+      rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 
-    const bool write = i % config.output.every_n == 0 || i == n - 1;
-    if (write) {
-      t = Clock::now();
-      const std::filesystem::path dir = options.out_dir / "frames" / frame.name;
-      write_frame_outputs(dir, frame.name, pipeline, frame.pose.T_W_B, config.output);
-      if (config.output.mosaic) {
-        const Eigen::Vector3d p = frame.pose.T_W_B.translation();
-        write_png(options.out_dir / "mosaic" / (frame.name + ".png"),
-                  render_mosaic(pipeline, config.map, frame.name, p.x(), p.y()));
+      FrameReport report;
+      try {
+        report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
+      } catch (const Error& e) {
+        throw Error(frame.left_path.string() + ": " + e.what());
       }
-      for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
-      rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
-      rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
-      rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-      rec.written = true;
-      result.written.push_back(dir);
-      ++result.frames_written;
+      rec.points = report.points;
+      rec.ms = report.ms;
+      rec.layer_map_ms = pipeline.layer_map_ms();
+      rec.points_below_ground = report.points_below_ground;
+      rec.disparities_unsupported = report.disparities_unsupported;
+      rec.layer_gates = pipeline.layer_gates();
+
+      const bool write = i % config.output.every_n == 0 || i == n - 1;
+      if (write) {
+        t = Clock::now();
+        const std::filesystem::path dir = options.out_dir / "frames" / frame.name;
+        write_frame_outputs(dir, frame.name, pipeline, frame.pose.T_W_B, config.output);
+        if (config.output.mosaic) {
+          const Eigen::Vector3d p = frame.pose.T_W_B.translation();
+          write_png(options.out_dir / "mosaic" / (frame.name + ".png"),
+                    render_mosaic(pipeline, config.map, frame.name, p.x(), p.y()));
+        }
+        for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
+        rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
+        rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
+        rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+        rec.written = true;
+        result.written.push_back(dir);
+        ++result.frames_written;
+      }
+      result.points_total += report.points;
+      ++result.frames_processed;
+      spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
+                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
+                   i + 1, n, frame.name, report.points,
+                   rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms, report.ms.rectify_ms,
+                   report.ms.disparity_ms, report.ms.points_ms, report.ms.map_ms,
+                   report.ms.hazard_ms, rec.write_ms);
+      records.push_back(std::move(rec));
+    } catch (const Error& e) {
+      throw Error(std::string(e.what()) + " (frame " + frame.name + ", " + std::to_string(i + 1) +
+                  " of " + std::to_string(n) + ", stopped the run; " +
+                  std::to_string(result.frames_written) +
+                  " frame folders written before it are complete)");
     }
-    result.points_total += report.points;
-    ++result.frames_processed;
-    spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
-                 "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
-                 i + 1, n, frame.name, report.points,
-                 rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms, report.ms.rectify_ms,
-                 report.ms.disparity_ms, report.ms.points_ms, report.ms.map_ms,
-                 report.ms.hazard_ms, rec.write_ms);
-    records.push_back(std::move(rec));
-    write_summary(options.out_dir / "summary.json", config, options, records, n, i == n - 1);
   }
+  // Once, complete: a stopped run must not replace an earlier run's summary.json with a
+  // partial one.
+  write_summary(options.out_dir / "summary.json", config, options, records, n, true);
   return result;
 }
 
