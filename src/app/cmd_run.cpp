@@ -21,9 +21,13 @@ const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out 
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
 Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem
-(.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json and
-OUT/run.log. A writer thread writes the frames (output.queue_frames); each frame folder
-appears complete or not at all.
+(.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json (once,
+after the last frame) and OUT/run.log. A writer thread writes the frames
+(output.queue_frames); each frame folder appears complete or not at all. Every input,
+every frame's image header included, is checked before anything is written; a frame
+damaged later stops the run with one line naming it, frames written before it stay
+complete and an earlier run's summary.json is left as it was. SIGINT/SIGTERM stop the run
+after the frame in flight, which is written.
   --frames A:B   frame indices [A, B) of the sorted frames (Python-like, negatives count
                  from the end)
   --set K=V      override a YAML key by dotted path, e.g. --set map.layers.0.size=64
@@ -76,16 +80,18 @@ int cmd_run(int argc, char** argv) {
   if (args.on("mosaic")) sets.push_back("output.mosaic=true");
   const hazmap::Config config = hazmap::load_config(options.config_path, sets);
   const hazmap::Sequence sequence = hazmap::load_sequence(options.sequence_dir);
-  if (!options.frames.empty()) hazmap::select_frames(sequence.frames, options.frames);
+  // Frame selection, every frame's image headers and the pipeline's constructors
+  // (including the map's allocation) are checked here, still before run.log exists.
+  install_stop_handlers();
+  options.stop_signal = &g_stop_signal;
+  hazmap::SequenceRun run(config, sequence, options);
   setup_logging(options.out_dir / "run.log", args.on("quiet"));
   spdlog::info("hazmap {} run: config {}, sequence {}, out {}", HAZMAP_VERSION,
                options.config_path.string(), options.sequence_dir.string(),
                options.out_dir.string());
   // The configuration as actually used goes to the log file, not the terminal.
   log_to_file_only("configuration in use:\n" + hazmap::to_yaml(config));
-  install_stop_handlers();
-  options.stop_signal = &g_stop_signal;
-  const hazmap::RunResult result = hazmap::run_sequence(config, sequence, options);
+  const hazmap::RunResult result = run.run();
   if (result.stop_signal != 0) {
     const std::string line =
         std::string("stopped by ") + signal_name(result.stop_signal) +

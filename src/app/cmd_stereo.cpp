@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli.hpp"
+#include "hazmap/core/error.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/euroc.hpp"
@@ -70,6 +71,7 @@ int cmd_stereo(int argc, char** argv) {
   const std::vector<hazmap::SequenceFrame> frames =
       args.has("frames") ? hazmap::select_frames(sequence.frames, args.get("frames"))
                          : sequence.frames;
+  hazmap::check_frame_images(frames, sequence.calibration);
   hazmap::StereoFrontEnd front_end(config.stereo, config.sensor, sequence.calibration);
 
   setup_logging(out_dir / "run.log", args.on("quiet"));
@@ -93,44 +95,51 @@ int cmd_stereo(int argc, char** argv) {
   std::vector<std::uint8_t> grey;
   for (size_t i = 0; i < frames.size(); ++i) {
     const hazmap::SequenceFrame& f = frames[i];
-    const cv::Mat left = hazmap::read_image(f.left_path);
-    const cv::Mat right = hazmap::read_image(f.right_path);
-    const hazmap::StereoTimes t = front_end.process(left, right, f.pose.T_W_B);
+    try {
+      const cv::Mat left = hazmap::read_image(f.left_path);
+      const cv::Mat right = hazmap::read_image(f.right_path);
+      const hazmap::StereoTimes t = front_end.process(left, right, f.pose.T_W_B);
 
-    const std::filesystem::path dir = out_dir / "frames" / f.name;
-    hazmap::write_png(dir / "left_rect.png", front_end.rectified_left());
-    hazmap::write_png(dir / "right_rect.png", front_end.rectified_right());
-    const int invalid = front_end.matcher().invalid_below();
-    hazmap::disparity_to_u16(front_end.disparity_x16(), invalid, disparity_u16);
-    hazmap::write_png(dir / "disparity.png", disparity_u16);
-    hazmap::colorize_disparity(front_end.disparity_x16(), invalid,
-                               front_end.matcher().min_disparity(),
-                               front_end.matcher().num_disparities(), disparity_bgr);
-    hazmap::write_png(dir / "disparity_color.png", disparity_bgr);
-    grey.clear();
-    for (const cv::Point& p : front_end.pixels())
-      grey.push_back(front_end.rectified_left().at<std::uint8_t>(p));
-    hazmap::write_ply(dir / "cloud.ply", front_end.cloud(), &grey,
-                      {"hazmap stereo, frame " + f.name,
-                       "frame W (world); covariance cov_* in m^2, SPEC 4 sensor model " +
-                           config.sensor.model});
+      const std::filesystem::path dir = out_dir / "frames" / f.name;
+      hazmap::write_png(dir / "left_rect.png", front_end.rectified_left());
+      hazmap::write_png(dir / "right_rect.png", front_end.rectified_right());
+      const int invalid = front_end.matcher().invalid_below();
+      hazmap::disparity_to_u16(front_end.disparity_x16(), invalid, disparity_u16);
+      hazmap::write_png(dir / "disparity.png", disparity_u16);
+      hazmap::colorize_disparity(front_end.disparity_x16(), invalid,
+                                 front_end.matcher().min_disparity(),
+                                 front_end.matcher().num_disparities(), disparity_bgr);
+      hazmap::write_png(dir / "disparity_color.png", disparity_bgr);
+      grey.clear();
+      for (const cv::Point& p : front_end.pixels())
+        grey.push_back(front_end.rectified_left().at<std::uint8_t>(p));
+      hazmap::write_ply(dir / "cloud.ply", front_end.cloud(), &grey,
+                        {"hazmap stereo, frame " + f.name,
+                         "frame W (world); covariance cov_* in m^2, SPEC 4 sensor model " +
+                             config.sensor.model});
 
-    const size_t points = front_end.cloud().size();
-    points_total += points;
-    sum.grey_ms += t.grey_ms;
-    sum.rectify_ms += t.rectify_ms;
-    sum.disparity_ms += t.disparity_ms;
-    sum.points_ms += t.points_ms;
-    spdlog::info("frame {}/{} {}: {} points; grey {:.1f} ms, rectify {:.1f} ms, disparity {:.1f} "
-                 "ms, points {:.1f} ms",
-                 i + 1, frames.size(), f.name, points, t.grey_ms, t.rectify_ms, t.disparity_ms,
-                 t.points_ms);
-    per_frame += std::string(per_frame.empty() ? "" : ",\n") + "    {\"frame\": \"" + f.name +
-                 "\", \"points\": " + std::to_string(points) +
-                 ", \"grey_ms\": " + json_number(t.grey_ms) +
-                 ", \"rectify_ms\": " + json_number(t.rectify_ms) +
-                 ", \"disparity_ms\": " + json_number(t.disparity_ms) +
-                 ", \"points_ms\": " + json_number(t.points_ms) + "}";
+      const size_t points = front_end.cloud().size();
+      points_total += points;
+      sum.grey_ms += t.grey_ms;
+      sum.rectify_ms += t.rectify_ms;
+      sum.disparity_ms += t.disparity_ms;
+      sum.points_ms += t.points_ms;
+      spdlog::info("frame {}/{} {}: {} points; grey {:.1f} ms, rectify {:.1f} ms, disparity {:.1f} "
+                   "ms, points {:.1f} ms",
+                   i + 1, frames.size(), f.name, points, t.grey_ms, t.rectify_ms, t.disparity_ms,
+                   t.points_ms);
+      per_frame += std::string(per_frame.empty() ? "" : ",\n") + "    {\"frame\": \"" + f.name +
+                   "\", \"points\": " + std::to_string(points) +
+                   ", \"grey_ms\": " + json_number(t.grey_ms) +
+                   ", \"rectify_ms\": " + json_number(t.rectify_ms) +
+                   ", \"disparity_ms\": " + json_number(t.disparity_ms) +
+                   ", \"points_ms\": " + json_number(t.points_ms) + "}";
+    } catch (const hazmap::Error& e) {
+      throw hazmap::Error(std::string(e.what()) + " (frame " + f.name + ", " +
+                          std::to_string(i + 1) + " of " + std::to_string(frames.size()) +
+                          ", stopped the run; the " + std::to_string(i) +
+                          " frame folders before it are complete)");
+    }
   }
   const double n = static_cast<double>(frames.size());
   const std::string summary =

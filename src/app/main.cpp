@@ -3,7 +3,10 @@
 
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <string>
+
+#include <opencv2/core.hpp>
 
 #include "cli.hpp"
 #include "hazmap/core/error.hpp"
@@ -66,6 +69,18 @@ int main(int argc, char** argv) {
   } catch (const hazmap::cli::UsageError& e) {
     std::fprintf(stderr, "hazmap: %s (see hazmap --help)\n", e.what());
     return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    // Inputs are checked for plausible sizes before allocating; this is the backstop.
+    const char* what = "out of memory (an input asks for more than this machine holds)";
+    hazmap::cli::log_to_file_only(what, true);
+    std::fprintf(stderr, "hazmap: error: %s\n", what);
+    return kExitError;
+  } catch (const cv::Exception& e) {
+    // cv::Exception::what() spans lines; its err field is the one-line reason.
+    const std::string what = "OpenCV: " + e.err + " (in " + e.func + ")";
+    hazmap::cli::log_to_file_only(what, true);
+    std::fprintf(stderr, "hazmap: error: %s\n", what.c_str());
+    return kExitError;
   } catch (const std::exception& e) {
     hazmap::cli::log_to_file_only(e.what(), true);
     std::fprintf(stderr, "hazmap: error: %s\n", e.what());

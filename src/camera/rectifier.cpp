@@ -109,7 +109,8 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
   geometry_.cy_px = P1_.at<double>(1, 2);
   cv::cv2eigen(R1_cv_, R1_);
   if (!(geometry_.baseline_m > 0))
-    throw Error("calibration: the right camera is not to the right of the left one (T.x must be "
+    throw Error((calib.source.empty() ? std::string("calibration") : calib.source) +
+                ": key 'T': the right camera is not to the right of the left one (T.x must be "
                 "negative)");
   const cv::Rect whole(0, 0, size_.width, size_.height);
   if (valid_roi_.area() == 0) valid_roi_ = whole;

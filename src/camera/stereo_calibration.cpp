@@ -1,5 +1,6 @@
 #include "hazmap/camera/stereo_calibration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -240,6 +241,7 @@ StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
   c.T = Eigen::Vector3d(t[0], t[1], t[2]);
   if (top.has("T_body_left")) c.T_B_C = parse_pose(top.child("T_body_left"));
   top.finish();
+  c.source = source;
   validate(c, source);
   return c;
 }
@@ -261,16 +263,53 @@ void validate(const StereoCalibration& c, const std::string& source) {
   auto fail = [&](const std::string& key, const std::string& what) {
     throw Error(source + ": key '" + key + "': " + what);
   };
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return std::string(text);
+  };
   if (c.image_width <= 0) fail("image_width", "must be > 0");
   if (c.image_height <= 0) fail("image_height", "must be > 0");
+  const double side = std::max(c.image_width, c.image_height);
   for (const auto* cam : {&c.left, &c.right}) {
-    const char* name = cam == &c.left ? "left.K" : "right.K";
-    if (!(cam->K(0, 0) > 0 && cam->K(1, 1) > 0)) fail(name, "focal lengths must be > 0");
+    const std::string name = cam == &c.left ? "left" : "right";
+    const std::string k = name + ".K";
+    if (!cam->K.allFinite()) fail(k, "holds a value that is not a finite number");
+    for (double d : cam->D)
+      if (!std::isfinite(d)) fail(name + ".D", "holds a value that is not a finite number");
+    if (!(cam->K(0, 0) > 0 && cam->K(1, 1) > 0)) fail(k, "focal lengths must be > 0");
     if (cam->K(2, 2) != 1.0 || cam->K(1, 0) != 0 || cam->K(2, 0) != 0 || cam->K(2, 1) != 0)
-      fail(name, "must be an upper-triangular camera matrix with K[2][2] = 1");
+      fail(k, "must be an upper-triangular camera matrix with K[2][2] = 1");
+    // Plausibility: beyond these no lens images the ground, and the numbers that follow
+    // from them (f B / Z, pixel rays) lose all precision or overflow.
+    for (int i = 0; i < 2; ++i)
+      if (cam->K(i, i) > kMaxFocalPerImageSide * side)
+        fail(k, std::string(i ? "fy" : "fx") + " = " + number(cam->K(i, i)) +
+                    " px is implausible: at most " + number(kMaxFocalPerImageSide) +
+                    " x the image's larger side (" + number(side) +
+                    " px), a field of view under 0.06 deg");
+    if (std::abs(cam->K(0, 1)) > kMaxSkewPerFocal * cam->K(0, 0))
+      fail(k, "skew K[0][1] = " + number(cam->K(0, 1)) + " is implausible: at most " +
+                  number(kMaxSkewPerFocal) + " x fx (pixel axes within 6 deg of square)");
+    const double cx = cam->K(0, 2), cy = cam->K(1, 2);
+    if (!(cx >= -c.image_width && cx <= 2.0 * c.image_width && cy >= -c.image_height &&
+          cy <= 2.0 * c.image_height))
+      fail(k, "principal point (" + number(cx) + ", " + number(cy) +
+                  ") px is implausible: more than an image width or height outside the " +
+                  std::to_string(c.image_width) + "x" + std::to_string(c.image_height) + " image");
   }
+  if (!c.R.allFinite()) fail("R", "holds a value that is not a finite number");
+  if (!c.T.allFinite()) fail("T", "holds a value that is not a finite number");
   if (!c.R.isUnitary(1e-4) || c.R.determinant() < 0) fail("R", "is not a rotation matrix");
   if (!(c.T.norm() > 0)) fail("T", "baseline must be non-zero");
+  if (!(c.T.norm() <= kMaxBaselineM))
+    fail("T", "baseline |T| = " + number(c.T.norm()) + " m is implausible: at most " +
+                  number(kMaxBaselineM) + " m (wider than any stereo rig; check the units)");
+  if (!c.T_B_C.matrix().allFinite())
+    fail("T_body_left", "holds a value that is not a finite number");
+  if (!(c.T_B_C.translation().cwiseAbs().maxCoeff() <= kMaxBaselineM))
+    fail("T_body_left", "translation is implausible: each coordinate at most " +
+                            number(kMaxBaselineM) + " m from the body origin");
   if (c.rectified) {
     for (double d : c.left.D)
       if (d != 0) fail("left.D", "must be zero for a rectified sequence");
@@ -279,6 +318,9 @@ void validate(const StereoCalibration& c, const std::string& source) {
     if (!c.R.isIdentity(1e-9)) fail("R", "must be the identity for a rectified sequence");
     if (!(c.T.x() < 0) || c.T.y() != 0 || c.T.z() != 0)
       fail("T", "must be [-B, 0, 0] for a rectified sequence");
+    // SPEC 2: a rectified pair shares one camera matrix; the pipeline uses the left's.
+    if (!c.right.K.isApprox(c.left.K, 1e-9))
+      fail("right.K", "must equal left.K for a rectified sequence (SPEC 2)");
   }
 }
 

@@ -608,9 +608,16 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       const LayerMaps layer = read_layer(frames_dir / name, ev.layers[l]);
       ErrorMaps maps;
       MetricSums near_sums;
-      const MetricSums s =
-          score_layer(layer, truth_for(ev.layers[l]), T_map_W, ev.layers[l].h_min_m, maps_wanted ? &maps : nullptr,
-                      options.near_enabled() ? &near : nullptr, &near_sums);
+      MetricSums s;
+      try {
+        s = score_layer(layer, truth_for(ev.layers[l]), T_map_W, ev.layers[l].h_min_m,
+                        maps_wanted ? &maps : nullptr, options.near_enabled() ? &near : nullptr,
+                        &near_sums);
+      } catch (const Error& e) {
+        // The grids' own check knows no file: name the frame's layer files here.
+        throw Error((frames_dir / name / (ev.layers[l].name + "_*.jdem")).string() + " (frame " +
+                    name + "): " + e.what());
+      }
       ev.pooled[l] += s;
       row.push_back(s);
       if (options.near_enabled()) {

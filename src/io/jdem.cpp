@@ -1,11 +1,13 @@
 #include "hazmap/io/jdem.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "hazmap/core/error.hpp"
@@ -165,7 +167,13 @@ JdemGrid parse_jdem(const std::string& text, const std::string& source) {
   parse_number(grid.nodata.data(), grid.nodata.data() + grid.nodata.size(), &nodata_value);
   const bool nodata_is_nan = std::isnan(nodata_value);
 
-  grid.values.assign(static_cast<size_t>(grid.rows) * grid.cols, 0.0f);
+  // Storage grows with the values actually read, reserved up to what the data section
+  // can hold (each value takes a character and a separator): a header claiming 1e8 x 1e8
+  // cells in a small file is then reported as short data, never allocated up front.
+  const std::streamoff at = in.tellg();
+  const size_t data_bytes = at < 0 ? 0 : text.size() - static_cast<size_t>(at);
+  const double cells = static_cast<double>(grid.rows) * static_cast<double>(grid.cols);
+  grid.values.reserve(static_cast<size_t>(std::min(cells, static_cast<double>(data_bytes / 2 + 1))));
   int row = 0;
   while (std::getline(in, line)) {
     ++line_no;
@@ -185,8 +193,11 @@ JdemGrid parse_jdem(const std::string& text, const std::string& source) {
         throw fail("not a number: '" + std::string(start, p) + "'");
       if (col >= grid.cols)
         throw fail("row has more than " + std::to_string(grid.cols) + " values");
+      // Grids hold floats; a finite double beyond their range has no float to become.
+      if (std::isfinite(v) && std::abs(v) > std::numeric_limits<float>::max())
+        throw fail("value '" + std::string(start, p) + "' is beyond the range of a 32-bit float");
       if (!nodata_is_nan && v == nodata_value) v = std::nan("");
-      grid.values[static_cast<size_t>(row) * grid.cols + col] = static_cast<float>(v);
+      grid.values.push_back(static_cast<float>(v));
       ++col;
     }
     if (col != grid.cols)

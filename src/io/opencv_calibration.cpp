@@ -28,10 +28,27 @@ cv::FileStorage open(const std::filesystem::path& path) {
   }
 }
 
+/// The largest matrix a calibration file holds: 14 distortion coefficients (a 3 x 3 is 9).
+constexpr long long kMaxMatrixValues = 14;
+
 cv::Mat read_matrix(const cv::FileStorage& fs, const std::filesystem::path& path,
                     const std::string& key) {
   const cv::FileNode node = fs[key];
   if (node.empty()) fail(path, key, "missing required key");
+  // OpenCV allocates rows x cols from the header before it reads the data (a mutated
+  // "rows: 100000000" asked for 48 GB in the fuzz pass): every matrix here is at most
+  // 3 x 3 or 14 distortion coefficients, and must hold as many numbers as it claims.
+  if (node.isMap()) {
+    const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+    if (!rows.isInt() || !cols.isInt()) fail(path, key, "matrix rows and cols must be integers");
+    const long long r = static_cast<int>(rows), c = static_cast<int>(cols);
+    if (r < 1 || c < 1 || r * c > kMaxMatrixValues)
+      fail(path, key, "a " + std::to_string(r) + " x " + std::to_string(c) +
+                          " matrix is implausible for a calibration (at most " +
+                          std::to_string(kMaxMatrixValues) + " numbers)");
+    if (!data.isSeq() || static_cast<long long>(data.size()) != r * c)
+      fail(path, key, "matrix data must hold rows x cols = " + std::to_string(r * c) + " numbers");
+  }
   cv::Mat m;
   try {
     node >> m;
@@ -81,11 +98,8 @@ int read_int(const cv::FileNode& node, const std::filesystem::path& path, const 
                     path, key);
 }
 
-}  // namespace
-
-StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& path,
-                                                 const OpenCvCalibrationOptions& options,
-                                                 const std::filesystem::path& extrinsics) {
+StereoCalibration load(const std::filesystem::path& path, const OpenCvCalibrationOptions& options,
+                       const std::filesystem::path& extrinsics) {
   const cv::FileStorage fs = open(path);
   StereoCalibration c;
   c.left.K = matrix3(read_matrix(fs, path, "M1"), path, "M1");
@@ -134,8 +148,24 @@ StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& pa
   if (c.image_width <= 0 || c.image_height <= 0)
     fail(path, "image_width", "no image size in the file (image_width/image_height or imageSize) "
                               "and none given");
+  c.source = path.string();
   validate(c, path.string());
   return c;
+}
+
+}  // namespace
+
+StereoCalibration load_opencv_stereo_calibration(const std::filesystem::path& path,
+                                                 const OpenCvCalibrationOptions& options,
+                                                 const std::filesystem::path& extrinsics) {
+  // FileStorage asserts rather than reports on a file whose top level is not a map (a
+  // lone "-" after the header, measured by the parser fuzz test), and Rodrigues on odd
+  // input: those assertions become one line naming the file, not OpenCV's raw text.
+  try {
+    return load(path, options, extrinsics);
+  } catch (const cv::Exception& e) {
+    throw Error(path.string() + ": not a usable OpenCV calibration file (OpenCV: " + e.err + ")");
+  }
 }
 
 }  // namespace hazmap

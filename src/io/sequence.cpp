@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/images.hpp"
 
 namespace fs = std::filesystem;
 
@@ -133,6 +134,25 @@ Sequence load_sequence(const fs::path& dir) {
     seq.frames.push_back(SequenceFrame{name, left_path, rights.at(name), it->second});
   }
   return seq;
+}
+
+void check_frame_images(const std::vector<SequenceFrame>& frames,
+                        const StereoCalibration& calibration) {
+  const int w = calibration.image_width, h = calibration.image_height;
+  for (const SequenceFrame& f : frames) {
+    const PngHeader left = read_png_header(f.left_path);
+    const PngHeader right = read_png_header(f.right_path);
+    for (const auto* side : {&left, &right})
+      if (side->width != w || side->height != h)
+        throw Error((side == &left ? f.left_path : f.right_path).string() + ": image is " +
+                    std::to_string(side->width) + "x" + std::to_string(side->height) +
+                    ", the calibration says " + std::to_string(w) + "x" + std::to_string(h));
+    // The grey conversion needs the pair in one depth and channel layout.
+    if (left.decoded_bits() != right.decoded_bits() || left.colour_type != right.colour_type)
+      throw Error(f.right_path.string() + ": " + right.describe() + ", but its left image " +
+                  f.left_path.string() + " is " + left.describe() +
+                  " (a pair must agree in bit depth and colour type)");
+  }
 }
 
 std::vector<SequenceFrame> select_frames(const std::vector<SequenceFrame>& frames,

@@ -172,14 +172,30 @@ bool stop_requested(const RunOptions& options) {
 
 }  // namespace
 
-RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
-  const std::vector<SequenceFrame> frames =
-      options.frames.empty() ? sequence.frames : select_frames(sequence.frames, options.frames);
-  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
-               frames.size(), sequence.frames.size(), sequence.calibration.image_width,
-               sequence.calibration.image_height);
+SequenceRun::SequenceRun(const Config& config, const Sequence& sequence, const RunOptions& options)
+    : config_(config),
+      sequence_(sequence),
+      options_(options),
+      frames_(options.frames.empty() ? sequence.frames
+                                     : select_frames(sequence.frames, options.frames)) {
+  check_frame_images(frames_, sequence.calibration);
+  pipeline_ = std::make_unique<Pipeline>(config, sequence.calibration);
+}
 
-  Pipeline pipeline(config, sequence.calibration);
+SequenceRun::~SequenceRun() = default;
+
+RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options) {
+  return SequenceRun(config, sequence, options).run();
+}
+
+RunResult SequenceRun::run() {
+  const Config& config = config_;
+  const RunOptions& options = options_;
+  const std::vector<SequenceFrame>& frames = frames_;
+  Pipeline& pipeline = *pipeline_;
+  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
+               frames.size(), sequence_.frames.size(), sequence_.calibration.image_width,
+               sequence_.calibration.image_height);
   const StereoGeometry& g = pipeline.rectifier().geometry();
   spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
                g.baseline_m, g.cx_px, g.cy_px);
@@ -211,39 +227,50 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     // A stop request ends the run between frames: the frame in flight was finished.
     if (stop_requested(options)) break;
     const SequenceFrame& frame = frames[static_cast<size_t>(i)];
-    FrameRecord rec;
-    rec.name = frame.name;
-    const auto t = Clock::now();
-    const cv::Mat left = read_image(frame.left_path);
-    const cv::Mat right = read_image(frame.right_path);
-    rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-
-    FrameReport report;
     try {
-      report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
-    } catch (const Error& e) {
-      throw Error(frame.left_path.string() + ": " + e.what());
-    }
-    last = i;
-    rec.points = report.points;
-    rec.ms = report.ms;
-    rec.layer_map_ms = pipeline.layer_map_ms();
-    rec.points_below_ground = report.points_below_ground;
-    rec.disparities_unsupported = report.disparities_unsupported;
-    rec.layer_gates = pipeline.layer_gates();
+      FrameRecord rec;
+      rec.name = frame.name;
+      const auto t = Clock::now();
+      const cv::Mat left = read_image(frame.left_path);
+      const cv::Mat right = read_image(frame.right_path);
+      rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 
-    if (i % config.output.every_n == 0 || i == n - 1) write_frame(frame, rec);
-    result.points_total += report.points;
-    ++result.frames_processed;
-    spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
-                 "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
-                 i + 1, n, frame.name, report.points,
-                 rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms, report.ms.rectify_ms,
-                 report.ms.disparity_ms, report.ms.points_ms, report.ms.map_ms,
-                 report.ms.hazard_ms, rec.write_ms);
-    records.push_back(std::move(rec));
-    state.writer = writer.stats();
-    write_summary(options.out_dir / "summary.json", config, options, records, n, state);
+      FrameReport report;
+      try {
+        report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
+      } catch (const Error& e) {
+        throw Error(frame.left_path.string() + ": " + e.what());
+      }
+      last = i;
+      rec.points = report.points;
+      rec.ms = report.ms;
+      rec.layer_map_ms = pipeline.layer_map_ms();
+      rec.points_below_ground = report.points_below_ground;
+      rec.disparities_unsupported = report.disparities_unsupported;
+      rec.layer_gates = pipeline.layer_gates();
+
+      if (i % config.output.every_n == 0 || i == n - 1) write_frame(frame, rec);
+      result.points_total += report.points;
+      ++result.frames_processed;
+      spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
+                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
+                   i + 1, n, frame.name, report.points,
+                   rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms,
+                   report.ms.rectify_ms, report.ms.disparity_ms, report.ms.points_ms,
+                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms);
+      records.push_back(std::move(rec));
+    } catch (const Error& e) {
+      // The frames handed to the writer before this one are written whole first.
+      std::string written = std::to_string(result.frames_written) +
+                            " frame folders written before it are complete";
+      try {
+        writer.finish();
+      } catch (const Error& w) {
+        written = std::string("writing the earlier frames failed too: ") + w.what();
+      }
+      throw Error(std::string(e.what()) + " (frame " + frame.name + ", " + std::to_string(i + 1) +
+                  " of " + std::to_string(n) + ", stopped the run; " + written + ")");
+    }
   }
   if (last < n - 1 && stop_requested(options)) {  // stopped early
     result.stop_signal = options.stop_signal->load();
@@ -254,6 +281,8 @@ RunResult run_sequence(const Config& config, const Sequence& sequence, const Run
     }
   }
   writer.finish();
+  // Once, complete, after the last frame (or a requested stop, marked unfinished): a run
+  // that fails must not replace an earlier run's summary.json with a partial one.
   state.finished = result.stop_signal == 0;
   state.stop_signal = result.stop_signal;
   state.writer = writer.stats();

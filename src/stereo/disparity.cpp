@@ -66,10 +66,28 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c)
                 "' needs the camera geometry; this matcher only does a full search");
 }
 
+void check_against_image(const StereoConfig& c, cv::Size image) {
+  const std::string size = std::to_string(image.width) + "x" + std::to_string(image.height);
+  // Disparities beyond the image width match nothing; OpenCV would still size its cost
+  // buffers from them (1048576 disparities: gigabytes, then "Insufficient memory").
+  if (static_cast<long long>(c.min_disparity) + c.num_disparities > image.width)
+    throw Error("config: key 'stereo.num_disparities': min_disparity + num_disparities = " +
+                std::to_string(static_cast<long long>(c.min_disparity) + c.num_disparities) +
+                " exceeds the " + size + " image's width (no match can be that far)");
+  const auto& r = c.roi_px;
+  if (r[2] > 0 && r[3] > 0 &&
+      (static_cast<long long>(r[0]) + r[2] > image.width ||
+       static_cast<long long>(r[1]) + r[3] > image.height))
+    throw Error("config: key 'stereo.roi': [" + std::to_string(r[0]) + ", " +
+                std::to_string(r[1]) + ", " + std::to_string(r[2]) + ", " + std::to_string(r[3]) +
+                "] reaches outside the " + size + " image");
+}
+
 DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& geometry,
                                    const Pose3d& T_B_Cr, cv::Size image_size)
     : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
       searched_num_(c.num_disparities) {
+  check_against_image(c, image_size);
   if (c.search == "full") {
     matcher_ = create_stereo_matcher(c, c.min_disparity, c.num_disparities, true);
     return;

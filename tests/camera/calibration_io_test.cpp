@@ -209,5 +209,27 @@ TEST(CalibrationFile, OpenCvImageSizeIsRangeCheckedBeforeTheConversion) {
   EXPECT_EQ(message(), "");
 }
 
+TEST(CalibrationFile, OpenCvMatrixSizeIsCheckedBeforeOpenCvAllocatesIt) {
+  // Found by the parser fuzz pass under ASan: "rows: 100000000" made OpenCV allocate
+  // 48 GB before reading the data.
+  testing::TempDir dir;
+  const std::string head = "%YAML:1.0\n---\nimage_width: 64\nimage_height: 48\nM1: !!opencv-matrix\n";
+  auto message = [&](const std::string& matrix) {
+    std::ofstream(dir / "stereo.yml") << head << matrix;
+    try {
+      load_opencv_stereo_calibration(dir / "stereo.yml");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string file = (dir / "stereo.yml").string();
+  EXPECT_EQ(message("   rows: 100000000\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0. ]\n"),
+            file + ": key 'M1': a 100000000 x 3 matrix is implausible for a calibration (at most "
+                   "14 numbers)");
+  EXPECT_EQ(message("   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0. ]\n"),
+            file + ": key 'M1': matrix data must hold rows x cols = 9 numbers");
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -138,6 +138,16 @@ TEST(Jdem, RejectsBadHeaderValue) {
             "grid.jdem:2: key 'rows': expected a non-negative integer, found '-3'");
 }
 
+TEST(Jdem, HugeClaimedSizeIsShortDataNotAnAllocation) {
+  // 1e8 x 1e8 cells would be 40 PB of floats: only the values present are stored.
+  EXPECT_EQ(parse_error("JDEM 1\nrows: 100000000\ncols: 100000000\nresolution: 1\ncenter_x: 0\n"
+                        "center_y: 0\ndata:\n"),
+            "grid.jdem:7: data has 0 rows, expected 100000000 (file ends here)");
+}
+TEST(Jdem, RejectsAValueBeyondFloatRange) {
+  EXPECT_EQ(parse_error(std::string(kHeader) + "1 2 3\n4 1e300 6\n"),
+            "grid.jdem:13: value '1e300' is beyond the range of a 32-bit float");
+}
 TEST(Jdem, ReadingAMissingFileNamesIt) {
   try {
     read_jdem("/nonexistent/x.jdem");

@@ -14,6 +14,17 @@
 
 namespace hazmap {
 
+/// Plausibility limits of validate(): values beyond them are corrupt files, not cameras.
+/// Focal length in pixels, per pixel of the image's larger side (1000: a field of view
+/// under 0.06 deg, a telescope rather than a mapping camera).
+constexpr double kMaxFocalPerImageSide = 1000.0;
+/// |skew| / fx: tan of how far the pixel axes are from square (0.1: about 6 deg; real
+/// sensors are within a small fraction of a degree).
+constexpr double kMaxSkewPerFocal = 0.1;
+/// Baseline and camera offset on the body, metres: 100 m is wider than any stereo rig
+/// or rover.
+constexpr double kMaxBaselineM = 100.0;
+
 struct CameraIntrinsics {
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
   std::vector<double> D;  ///< OpenCV distortion coefficients (k1 k2 p1 p2 [k3 ...]); empty = none
@@ -34,6 +45,7 @@ struct StereoCalibration {
   /// models' C, A, H, V and T_B_M, and the rectifier maps pixels through the full models.
   std::vector<CahvoreModel> models;
   Pose3d T_B_M = Pose3d::Identity();  ///< the models' frame M in the body: p_B = T_B_M p_M
+  std::string source;      ///< the file it was read from, for messages ("" if none)
 };
 
 /// Fills K, D, R, T and T_B_C of `calibration` from its two models and T_B_M (see

@@ -53,6 +53,12 @@ std::vector<std::pair<std::string, FramePose>> parse_poses(const std::string& te
 /// pose, an unreadable calibration).
 Sequence load_sequence(const std::filesystem::path& dir);
 
+/// Checks the PNG headers of every frame's images without decoding pixels (SPEC 2's
+/// "checked before the first frame"): each image is a complete PNG (signature, IHDR,
+/// IEND), of the calibration's size, and left and right agree in bit depth and colour
+/// type. Throws Error naming the image at fault.
+void check_frame_images(const std::vector<SequenceFrame>& frames, const StereoCalibration& calibration);
+
 /// Selects frames [first, last) by index in the sorted list, from "A:B", "A:" or ":B"
 /// (Python-like; negative indices count from the end). Throws Error on a bad range.
 std::vector<SequenceFrame> select_frames(const std::vector<SequenceFrame>& frames,

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,36 @@ struct RunResult {
   std::string stopped_after;  ///< then: the last frame processed (and written)
 };
 
-/// Runs the frames of a loaded sequence selected by options.frames. Logs one progress
-/// line per frame through spdlog (level info). Outputs are written by a FrameWriter
-/// (output.queue_frames). Throws Error on bad input or a failed write; outputs already
-/// written stay intact and no frame folder is partial.
+class Pipeline;
+
+/// A run in two steps, so that every check comes before the first byte is written or
+/// logged: the constructor selects the frames, checks every frame's image headers
+/// (check_frame_images) and builds the pipeline (its constructors' checks, the map's
+/// allocation); run() then logs, maps and writes.
+class SequenceRun {
+ public:
+  /// Logs and writes nothing. Throws Error on bad input. `config` and `sequence` must
+  /// outlive the object.
+  SequenceRun(const Config& config, const Sequence& sequence, const RunOptions& options);
+  ~SequenceRun();
+
+  /// Runs the selected frames. Logs one progress line per frame through spdlog (level
+  /// info). Outputs go through a FrameWriter (output.queue_frames); no frame folder is
+  /// ever partial. OUT/summary.json is written once, after the last frame: a run that stops
+  /// leaves an earlier run's summary.json as it was. A frame that fails (an image damaged
+  /// after the up-front check) throws one Error naming it; the frames written before it
+  /// stay complete.
+  RunResult run();
+
+ private:
+  const Config& config_;
+  const Sequence& sequence_;
+  RunOptions options_;
+  std::vector<SequenceFrame> frames_;
+  std::unique_ptr<Pipeline> pipeline_;
+};
+
+/// SequenceRun(config, sequence, options).run().
 RunResult run_sequence(const Config& config, const Sequence& sequence, const RunOptions& options);
 
 }  // namespace hazmap

@@ -36,6 +36,11 @@ cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& config, int
 /// column to match in an image `width` wide (width - block_size + 1, rounded down).
 int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometry, int width);
 
+/// Throws Error naming the key when the stereo settings cannot fit a `image`-sized
+/// rectified image: min_disparity + num_disparities wider than it, or an roi reaching
+/// outside it.
+void check_against_image(const StereoConfig& config, cv::Size image);
+
 class DisparityMatcher {
  public:
   /// Full search only. Throws Error naming the key for an unknown matcher, mode or

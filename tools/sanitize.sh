@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Builds hazmap with AddressSanitizer + UndefinedBehaviorSanitizer (float-cast-overflow
+# too) into build-sanitize/ (tests only, no benchmarks) and runs the whole ctest suite
+# under it, the seeded parser fuzz pass (ParserFuzz.*) included. Any sanitizer report
+# aborts its test, so the script exits non-zero. Usage: tools/sanitize.sh
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+jobs="$(nproc 2>/dev/null || echo 2)"
+build="$root/build-sanitize"
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+# -O1 -g: line numbers in reports at a fraction of Release's test time under ASan.
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+  -DHAZMAP_SANITIZE=ON -DHAZMAP_BUILD_TOOLS=OFF "${launcher[@]}"
+cmake --build "$build" -j "$jobs"
+export ASAN_OPTIONS="abort_on_error=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+cd "$build"
+ctest --output-on-failure -j "$jobs" --timeout 1200
