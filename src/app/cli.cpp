@@ -105,4 +105,20 @@ void log_to_file_only(const std::string& message, bool error) {
   g_file_sink->flush();
 }
 
+hazmap::EurocOptions euroc_options(const Args& args) {
+  hazmap::EurocOptions options;
+  options.poses_csv = args.get("poses");
+  const std::string frame = args.get("pose-frame", "body");
+  if (frame == "body") options.poses_frame = hazmap::EurocPoseFrame::body;
+  else if (frame == "left_camera") options.poses_frame = hazmap::EurocPoseFrame::left_camera;
+  else throw UsageError("--pose-frame " + frame + ": expected body or left_camera");
+  if (args.has("max-pose-gap")) {
+    const double gap_s = args.number("max-pose-gap");
+    // An hour bounds the nanosecond count far inside int64.
+    if (!(gap_s >= 0 && gap_s <= 3600)) throw UsageError("--max-pose-gap must be in [0, 3600] s");
+    options.max_pose_gap_ns = static_cast<std::int64_t>(gap_s * 1e9);
+  }
+  return options;
+}
+
 }  // namespace hazmap::cli

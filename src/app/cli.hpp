@@ -2,6 +2,7 @@
 // Shared plumbing of the hazmap subcommands (private to the executable): flag parsing,
 // logging set-up, usage errors. Each subcommand lives in its own cmd_<name>.cpp.
 
+#include "hazmap/io/euroc.hpp"
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -63,5 +64,8 @@ int cmd_calibrate(int argc, char** argv);
 int cmd_import_euroc(int argc, char** argv);
 int cmd_ground_truth(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
+
+/// --poses, --pose-frame and --max-pose-gap of an ASL/EuRoC folder (run, import-euroc).
+hazmap::EurocOptions euroc_options(const Args& args);
 
 }  // namespace hazmap::cli

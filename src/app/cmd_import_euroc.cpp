@@ -52,18 +52,8 @@ int cmd_import_euroc(int argc, char** argv) {
   if (positional.size() != 2) throw UsageError("import-euroc needs SRC and DST");
   const Args args = parse_args(static_cast<int>(flags.size()), flags.data(), value_flags,
                                {"identity-poses"});
-  hazmap::EurocOptions options;
-  options.poses_csv = args.get("poses");
-  const std::string frame = args.get("pose-frame", "body");
-  if (frame == "body") options.poses_frame = hazmap::EurocPoseFrame::body;
-  else if (frame == "left_camera") options.poses_frame = hazmap::EurocPoseFrame::left_camera;
-  else throw UsageError("--pose-frame " + frame + ": expected body or left_camera");
+  hazmap::EurocOptions options = euroc_options(args);
   options.identity_poses = args.on("identity-poses");
-  if (args.has("max-pose-gap")) {
-    const double gap_s = args.number("max-pose-gap");
-    if (!(gap_s >= 0)) throw UsageError("--max-pose-gap must be >= 0");
-    options.max_pose_gap_ns = static_cast<std::int64_t>(gap_s * 1e9);
-  }
   setup_logging("", false);
   const size_t frames = hazmap::import_euroc(positional[0], positional[1], options);
   std::printf("imported %zu frames into %s\n", frames, positional[1].c_str());

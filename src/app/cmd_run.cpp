@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli.hpp"
+#include "hazmap/io/euroc.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/sequence_runner.hpp"
@@ -18,8 +19,13 @@ namespace hazmap::cli {
 namespace {
 const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out DIR [--frames A:B]
                   [--set KEY=VALUE]... [--mosaic] [--quiet]
+                  [--poses CSV] [--pose-frame body|left_camera] [--max-pose-gap SECONDS]
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
+DIR may also be an ASL/EuRoC folder (mav0/cam0, mav0/cam1), read directly as
+`hazmap import-euroc` reads it: poses from --poses (EuRoC's CSV layout, of the body or of
+the left camera per --pose-frame) or else mav0/state_groundtruth_estimate0; images
+without a pose within --max-pose-gap (0.1 s) are left out.
 Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem
 (.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json (once,
 after the last frame) and OUT/run.log. A writer thread writes the frames
@@ -58,6 +64,19 @@ void install_stop_handlers() {
   for (int s : {SIGINT, SIGTERM}) sigaction(s, &action, nullptr);
 }
 
+/// Our layout, or an ASL/EuRoC folder read in place (its options as import-euroc's).
+hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args) {
+  const bool euroc = !hazmap::find_euroc_mav0(dir).empty();
+  if (!euroc) {
+    for (const char* flag : {"poses", "pose-frame", "max-pose-gap"})
+      if (args.has(flag))
+        throw UsageError(std::string("--") + flag + " applies to ASL/EuRoC folders; " +
+                         dir.string() + " is not one (no mav0/cam0 and mav0/cam1)");
+    return hazmap::load_sequence(dir);
+  }
+  return hazmap::load_euroc_sequence(dir, euroc_options(args));
+}
+
 const char* signal_name(int s) { return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal"; }
 
 }  // namespace
@@ -67,8 +86,10 @@ int cmd_run(int argc, char** argv) {
     std::fputs(kRunUsage, stdout);
     return kExitOk;
   }
-  const Args args =
-      parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet", "mosaic"});
+  const Args args = parse_args(argc, argv,
+                               {"config", "sequence", "out", "frames", "poses", "pose-frame",
+                                "max-pose-gap"},
+                               {"quiet", "mosaic"});
   hazmap::RunOptions options;
   options.config_path = args.required("config");
   options.sequence_dir = args.required("sequence");
@@ -79,7 +100,8 @@ int cmd_run(int argc, char** argv) {
   std::vector<std::string> sets = args.sets;
   if (args.on("mosaic")) sets.push_back("output.mosaic=true");
   const hazmap::Config config = hazmap::load_config(options.config_path, sets);
-  const hazmap::Sequence sequence = hazmap::load_sequence(options.sequence_dir);
+  setup_logging("", args.on("quiet"));  // the terminal only, until every check has passed
+  const hazmap::Sequence sequence = load_any_sequence(options.sequence_dir, args);
   // Frame selection, every frame's image headers and the pipeline's constructors
   // (including the map's allocation) are checked here, still before run.log exists.
   install_stop_handlers();

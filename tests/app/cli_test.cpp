@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -228,6 +229,59 @@ TEST(CliBench, OneSampleFramePrintsStagesAndTheRatio) {
   EXPECT_EQ(testing::run_command(std::string(HAZMAP_CLI) + " bench --repetitions 0 2>&1")
                 .exit_code,
             2);
+}
+
+
+std::string file_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Cli, RunReadsAnEurocFolderInPlaceAsImportEurocThenRunWould) {
+  const std::filesystem::path euroc = testing::source_dir() / "../shared/data/euroc_v1_01_micro";
+  if (!std::filesystem::exists(euroc / "mav0"))
+    GTEST_SKIP() << euroc.string() << " is absent (shared real data)";
+  testing::TempDir dir;
+  // A 5 m layer of 4 cm cells: the floor lies 1-4 m ahead of the cameras.
+  const std::string config = (testing::source_dir() / "config/default.yaml").string() +
+                             " --set map.layers.0.resolution=0.04 --set map.layers.0.size=128"
+                             " --set stereo.z_max=5";
+  const std::string poses = " --poses " + (euroc / "poses_leftcam_gt.csv").string() +
+                            " --pose-frame left_camera";
+  // In place, two frames.
+  CommandResult r = run_cli("run --config " + config + " --sequence " + euroc.string() + poses +
+                            " --frames 0:2 --quiet --out " + (dir / "direct").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "");  // --quiet: not even the EuRoC loader's line
+  // The independent path: convert, then run on our layout.
+  r = run_cli("import-euroc " + euroc.string() + " " + (dir / "seq").string() + poses);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_cli("run --config " + config + " --sequence " + (dir / "seq").string() +
+              " --frames 0:2 --quiet --out " + (dir / "imported").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int frames = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "imported/frames")) {
+    ++frames;
+    const auto name = e.path().filename();
+    for (const char* file : {"L0_height.jdem", "L0_variance.jdem", "L0_hazard.jdem"})
+      EXPECT_EQ(file_text(dir / "direct/frames" / name / file), file_text(e.path() / file))
+          << name << "/" << file;
+    // Not an empty map compared with an empty one: the floor is in it.
+    const JdemGrid h = read_jdem(e.path() / "L0_height.jdem");
+    int known = 0;
+    for (float v : h.values) known += std::isfinite(v);
+    EXPECT_GT(known, 1000) << name;
+  }
+  EXPECT_EQ(frames, 2);
+  // The EuRoC options belong to EuRoC folders only.
+  testing::write_tiny_sequence(dir / "tiny", 1);
+  r = run_cli("run --config " + config + " --sequence " + (dir / "tiny").string() + poses +
+              " --out " + (dir / "bad").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--poses applies to ASL/EuRoC folders"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
 }
 
 }  // namespace
