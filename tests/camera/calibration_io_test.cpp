@@ -17,6 +17,17 @@
 namespace hazmap {
 namespace {
 
+/// What `load` throws (an Error's message), or "" when it succeeds.
+template <class Load>
+std::string error_of(Load&& load) {
+  try {
+    load();
+  } catch (const Error& e) {
+    return std::string(e.what());
+  }
+  return std::string();
+}
+
 StereoCalibration example() {
   StereoCalibration c;
   c.image_width = 752;
@@ -144,14 +155,7 @@ TEST(CalibrationFile, OpenCvSplitFilesAndErrors) {
     for (int i = 0; i < 9; ++i) R.at<double>(i / 3, i % 3) = c.R(i / 3, i % 3);
     ex << "R" << R << "T" << (cv::Mat_<double>(3, 1) << c.T.x(), c.T.y(), c.T.z());
   }
-  auto message = [](auto&& f) {
-    try {
-      f();
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  auto message = [](auto&& f) { return error_of(f); };
   const std::string intrinsics = (dir / "intrinsics.yml").string();
   EXPECT_EQ(message([&] { load_opencv_stereo_calibration(dir / "intrinsics.yml"); }),
             intrinsics + ": key 'R': missing required key");
@@ -185,14 +189,7 @@ TEST(CalibrationFile, OpenCvImageSizeIsRangeCheckedBeforeTheConversion) {
     if (at != std::string::npos) text.replace(at, from.size(), to);
     std::ofstream(dir / "stereo.yml") << text;
   };
-  auto message = [&] {
-    try {
-      load_opencv_stereo_calibration(dir / "stereo.yml");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  auto message = [&] { return error_of([&] { load_opencv_stereo_calibration(dir / "stereo.yml"); }); };
   const std::string file = (dir / "stereo.yml").string();
   rewrite(false, "image_width: 752", "image_width: 1.0e+300");
   EXPECT_EQ(message(), file + ": key 'image_width': expected a whole number of pixels in "
@@ -216,12 +213,7 @@ TEST(CalibrationFile, OpenCvMatrixSizeIsCheckedBeforeOpenCvAllocatesIt) {
   const std::string head = "%YAML:1.0\n---\nimage_width: 64\nimage_height: 48\nM1: !!opencv-matrix\n";
   auto message = [&](const std::string& matrix) {
     std::ofstream(dir / "stereo.yml") << head << matrix;
-    try {
-      load_opencv_stereo_calibration(dir / "stereo.yml");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return error_of([&] { load_opencv_stereo_calibration(dir / "stereo.yml"); });
   };
   const std::string file = (dir / "stereo.yml").string();
   EXPECT_EQ(message("   rows: 100000000\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0. ]\n"),
