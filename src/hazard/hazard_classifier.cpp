@@ -61,7 +61,6 @@ void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDi
 PiecewiseConstantClassifier::PiecewiseConstantClassifier(const LayerHazardParams& params)
     : HazardClassifier(params) {
   filter_.set_detrended(params.detrended_roughness);
-  kernel_face_tan_ = params.h_min_m / (0.5 * (params.kernel - 1) * params.resolution_m);
   for (int w : kernel_half_widths(params.kernel)) kernel_cells_ += 2 * w + 1;
   for (int n = 0; n <= kernel_cells_; ++n) kernel_k_.push_back(kernel_k_sigma(params.k_sigma, n));
 }
@@ -142,7 +141,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
       // 6-cell plane turned stereo noise on ramps into hazards.
       if (detrended)
         ev.evidence(diag.kernel_slope.at(row, col), diag.kernel_slope_sigma.at(row, col),
-                    kernel_face_tan_);
+                    p.kernel_face_tan);
       if (p.ring_tests && !ev.hazard()) {
         if (std::isnan(z)) {
           ev.missing();
@@ -151,7 +150,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
           for (int k = 0; k < WheelRing::kSamples; ++k)
             s[k] = ring_sample(g, row + ring_dr[k], col + ring_dc[k], tan_slope);
           // Detrended kernels leave slopes to the ring (SPEC 8.2's vehicle slope).
-          if (p.detrended_roughness) ring_.slope_test(s, tan_slope, ev);
+          if (detrended) ring_.slope_test(s, tan_slope, ev);
           ring_.step_test(z, g.variance.at(row, col), s, p.h_min_m, tan_slope, ev);
         }
       }

@@ -36,6 +36,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& c
     p.h_min_source = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
                                                               : "derived roughness threshold";
   }
+  p.kernel_face_tan = p.h_min_m / (0.5 * (p.kernel - 1) * layer.resolution_m);
   p.rho_max_m2 = layer.hazard.rho_max_m2 > 0 ? layer.hazard.rho_max_m2 : p.h_min_m * p.h_min_m / 16.0;
   p.tan_face = p.h_min_m / layer.resolution_m;
   p.min_axis_coverage = hz.min_axis_coverage;

@@ -1,10 +1,8 @@
 #include "hazmap/pipeline/sequence_runner.hpp"
 
-#include <cmath>
-
 #include <algorithm>
-
 #include <chrono>
+#include <cmath>
 
 #include <spdlog/spdlog.h>
 

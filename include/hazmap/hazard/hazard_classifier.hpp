@@ -72,7 +72,6 @@ class PiecewiseConstantClassifier final : public HazardClassifier {
   RingSample ring_sample(const LayerGrids& g, int row, int col, double tan_slope) const;
 
   RoughnessFilter filter_;
-  double kernel_face_tan_ = 0;  ///< detrended: h_min over the kernel's radius
   int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
 };

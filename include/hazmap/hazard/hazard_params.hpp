@@ -38,6 +38,8 @@ struct LayerHazardParams {
   /// vehicle-slope test (SPEC 8.2) for slopes: hazard.roughness = detrended, on layers
   /// finer than the wheelbase (coarser ones have no ring and keep the range).
   bool detrended_roughness = false;
+  /// Detrended: tan of a kernel plane rising h_min within the kernel's radius (a face).
+  double kernel_face_tan = 0.0;
   // CCM (SPEC 8.2)
   double rho_max_m2 = 5.6e-5;
   double tan_face = 0.75;        ///< tan of the rock-face inclination, h_min / r
