@@ -72,8 +72,9 @@ inline CommandResult run_command(const std::string& command) {
   return r;
 }
 
-/// Writes a tiny but complete sequence (random-texture 64 x 48 PNG pairs, a rectified
-/// calibration and straight-line poses) for input-handling tests.
+/// Writes a tiny but complete sequence (random-texture 64 x 48 PNG pairs of level ground
+/// seen from above, a rectified calibration and straight-line poses) for input-handling
+/// tests.
 inline void write_tiny_sequence(const std::filesystem::path& dir, int frames) {
   std::filesystem::create_directories(dir / "left");
   std::filesystem::create_directories(dir / "right");
@@ -97,7 +98,10 @@ inline void write_tiny_sequence(const std::filesystem::path& dir, int frames) {
            "left:  {K: [50, 0, 31.5, 0, 50, 23.5, 0, 0, 1], D: [0, 0, 0, 0, 0]}\n"
            "right: {K: [50, 0, 31.5, 0, 50, 23.5, 0, 0, 1], D: [0, 0, 0, 0, 0]}\n"
            "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-0.05, 0, 0]\n"
-           "T_body_left: {translation: [0, 0.025, 0.15], rpy_deg: [-90, 0, -90]}\n";
+           // Looking straight down from 0.625 m: the constant disparity 4 is level ground
+           // at z_B = 0 (f B / d = 50 * 0.05 / 4), as a rover's camera would see it.
+           "T_body_left: {translation: [0, 0.025, 0.625], "
+           "quaternion: [0.70710678118654752, -0.70710678118654752, 0, 0]}\n";
 }
 
 }  // namespace hazmap::testing

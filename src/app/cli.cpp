@@ -121,4 +121,16 @@ hazmap::EurocOptions euroc_options(const Args& args) {
   return options;
 }
 
+hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args) {
+  const bool euroc = !hazmap::find_euroc_mav0(dir).empty();
+  if (!euroc) {
+    for (const char* flag : {"poses", "pose-frame", "max-pose-gap"})
+      if (args.has(flag))
+        throw UsageError(std::string("--") + flag + " applies to ASL/EuRoC folders; " +
+                         dir.string() + " is not one (no mav0/cam0 and mav0/cam1)");
+    return hazmap::load_sequence(dir);
+  }
+  return hazmap::load_euroc_sequence(dir, euroc_options(args));
+}
+
 }  // namespace hazmap::cli

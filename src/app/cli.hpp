@@ -3,6 +3,7 @@
 // logging set-up, usage errors. Each subcommand lives in its own cmd_<name>.cpp.
 
 #include "hazmap/io/euroc.hpp"
+#include "hazmap/io/sequence.hpp"
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -64,8 +65,13 @@ int cmd_calibrate(int argc, char** argv);
 int cmd_import_euroc(int argc, char** argv);
 int cmd_ground_truth(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
+int cmd_check(int argc, char** argv);
 
 /// --poses, --pose-frame and --max-pose-gap of an ASL/EuRoC folder (run, import-euroc).
 hazmap::EurocOptions euroc_options(const Args& args);
+
+/// Our sequence layout, or an ASL/EuRoC folder read in place with euroc_options(args)
+/// (run, check); the EuRoC flags on our layout are a UsageError.
+hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args);
 
 }  // namespace hazmap::cli

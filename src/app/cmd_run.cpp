@@ -64,19 +64,6 @@ void install_stop_handlers() {
   for (int s : {SIGINT, SIGTERM}) sigaction(s, &action, nullptr);
 }
 
-/// Our layout, or an ASL/EuRoC folder read in place (its options as import-euroc's).
-hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args) {
-  const bool euroc = !hazmap::find_euroc_mav0(dir).empty();
-  if (!euroc) {
-    for (const char* flag : {"poses", "pose-frame", "max-pose-gap"})
-      if (args.has(flag))
-        throw UsageError(std::string("--") + flag + " applies to ASL/EuRoC folders; " +
-                         dir.string() + " is not one (no mav0/cam0 and mav0/cam1)");
-    return hazmap::load_sequence(dir);
-  }
-  return hazmap::load_euroc_sequence(dir, euroc_options(args));
-}
-
 const char* signal_name(int s) { return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal"; }
 
 }  // namespace

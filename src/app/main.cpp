@@ -25,6 +25,8 @@ struct Command {
 const Command kCommands[] = {
     {"run", hazmap::cli::cmd_run,
      "--config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--quiet]"},
+    {"check", hazmap::cli::cmd_check,
+     "--config FILE --sequence DIR [--frames A:B] [--count N]   pre-flight report, no map"},
     {"stereo", hazmap::cli::cmd_stereo,
      "--config FILE --sequence DIR --out DIR [--frames A:B]   rectified PNGs, disparity, PLY"},
     {"simulate", hazmap::cli::cmd_simulate,

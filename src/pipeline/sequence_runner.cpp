@@ -13,6 +13,8 @@
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/output_writer.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/pipeline/preflight_check.hpp"
+#include "hazmap/stereo/ground_plane_fit.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
 #include "json_writer.hpp"
 
@@ -172,6 +174,22 @@ bool stop_requested(const RunOptions& options) {
   return options.stop_signal != nullptr && options.stop_signal->load() != 0;
 }
 
+/// Warns once (the first frame with points) when the ground those points lie on is tilted
+/// beyond hazard.max_slope_deg in W: the usual sign of poses or T_body_left in another
+/// convention, which otherwise shows only as slopes everywhere in the map.
+void warn_if_ground_tilted(const PointCloud& cloud, const SequenceFrame& frame,
+                           const StereoCalibration& calibration, const Config& config) {
+  const Pose3d& T_W_B = frame.pose.T_W_B;
+  const GroundPlane ground = fit_ground_plane(cloud, T_W_B * calibration.T_B_C.translation());
+  if (!ground.found) return;
+  const std::string problem =
+      ground_tilt_problem(ground.tilt_deg(Eigen::Vector3d::UnitZ()),
+                          ground.tilt_deg(T_W_B.linear().col(2)), config.hazard.max_slope_deg);
+  if (!problem.empty())
+    spdlog::warn("frame {}: {} (a rover really standing on such a slope may ignore this)",
+                 frame.name, problem);
+}
+
 }  // namespace
 
 SequenceRun::SequenceRun(const Config& config, const Sequence& sequence, const RunOptions& options)
@@ -225,6 +243,7 @@ RunResult SequenceRun::run() {
 
   const int n = static_cast<int>(frames.size());
   int last = -1;  // index of the last frame processed
+  bool ground_checked = false;  // the first frame with points is checked for tilt
   for (int i = 0; i < n; ++i) {
     // A stop request ends the run between frames: the frame in flight was finished.
     if (stop_requested(options)) break;
@@ -244,6 +263,10 @@ RunResult SequenceRun::run() {
         throw Error(frame.left_path.string() + ": " + e.what());
       }
       last = i;
+      if (!ground_checked && report.points > 0) {
+        warn_if_ground_tilted(pipeline.cloud(), frame, sequence_.calibration, config);
+        ground_checked = true;
+      }
       rec.points = report.points;
       rec.ms = report.ms;
       rec.layer_map_ms = pipeline.layer_map_ms();

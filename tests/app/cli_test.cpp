@@ -68,6 +68,12 @@ TEST(Cli, EmptyOutAndAFolderAsConfigStopWithOneLineAndWriteNothing) {
 TEST(Cli, RunWritesEveryOutputOfEveryFrame) {
   testing::TempDir dir;
   testing::write_tiny_sequence(dir / "seq", 3);
+  // The camera on a 0.6 m boom ahead of the body: the ground it sees starts 0.2 m ahead.
+  std::string calibration = testing::read_text(dir / "seq/calibration.yaml");
+  const std::string mount = "translation: [0, 0.025, 0.625]";
+  ASSERT_NE(calibration.find(mount), std::string::npos);
+  calibration.replace(calibration.find(mount), mount.size(), "translation: [0.6, 0.025, 0.625]");
+  std::ofstream(dir / "seq/calibration.yaml") << calibration;
   const CommandResult r = run_cli(tiny_run_args(dir) + " --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // --quiet: no progress, only the warning this tiny 16 cm layer earns (the cameras see

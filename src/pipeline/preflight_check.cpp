@@ -1,0 +1,339 @@
+#include "hazmap/pipeline/preflight_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "hazmap/core/error.hpp"
+#include "hazmap/io/images.hpp"
+#include "hazmap/stereo/stereo_front_end.hpp"
+
+namespace hazmap {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Boards tried when none is named: OpenCV's samples (9x6) and the usual printed ones.
+const cv::Size kCommonBoards[] = {{9, 6}, {8, 6}, {7, 6}, {7, 5}, {6, 5}, {10, 7}, {11, 8}};
+
+/// Rays of the lowest valid row sampled across it for the nearest visible ground.
+constexpr int kNearestGroundRays = 33;
+
+std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, a, b, c, d);
+  return text;
+}
+
+double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
+  if (v.empty()) return kNaN;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+/// Chessboard corners in one rectified image, refined to sub-pixel; empty if not found.
+std::vector<cv::Point2f> find_board(const cv::Mat& grey, cv::Size board) {
+  std::vector<cv::Point2f> corners;
+  const int flags = cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE |
+                    cv::CALIB_CB_FAST_CHECK;
+  if (!cv::findChessboardCorners(grey, board, corners, flags)) return {};
+  cv::cornerSubPix(grey, corners, cv::Size(5, 5), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.01));
+  return corners;
+}
+
+/// Adds one rectified pair's row differences of `board` to `rows`; false if the board is
+/// not found in both images.
+bool add_row_errors(const cv::Mat& left, const cv::Mat& right, cv::Size board,
+                    std::vector<double>& dv) {
+  const std::vector<cv::Point2f> l = find_board(left, board);
+  if (l.empty()) return false;
+  std::vector<cv::Point2f> r = find_board(right, board);
+  if (r.size() != l.size()) return false;
+  // OpenCV may start the corner order at the opposite end in the other view; the same
+  // order has the first-to-last vector pointing the same way in both.
+  const cv::Point2f dl = l.back() - l.front(), dr = r.back() - r.front();
+  if (dl.dot(dr) < 0) std::reverse(r.begin(), r.end());
+  for (size_t i = 0; i < l.size(); ++i) dv.push_back(static_cast<double>(l[i].y - r[i].y));
+  return true;
+}
+
+/// The ground point seen through rectified pixel (u, v): ray from `T_W_Cr` meeting the
+/// plane (n, p0); false if the ray runs parallel to it or away from it.
+bool ray_meets(const Pose3d& T_W_Cr, const StereoGeometry& g, double u, double v,
+               const Eigen::Vector3d& n, const Eigen::Vector3d& p0, double& depth,
+               Eigen::Vector3d& hit) {
+  const Eigen::Vector3d c = T_W_Cr.translation();
+  const Eigen::Vector3d r =
+      T_W_Cr.linear() * Eigen::Vector3d((u - g.cx_px) / g.focal_px, (v - g.cy_px) / g.focal_px, 1.0);
+  const double denom = n.dot(r);
+  if (std::abs(denom) < 1e-12) return false;
+  const double s = n.dot(p0 - c) / denom;  // the ray's z_C' component is 1: s is the depth
+  if (!(s > 0)) return false;
+  depth = s;
+  hit = c + s * r;
+  return true;
+}
+
+FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const Config& config,
+                       const StereoCalibration& calibration) {
+  FrameCheck fc;
+  fc.name = frame.name;
+  const cv::Mat left = read_image(frame.left_path), right = read_image(frame.right_path);
+  const Pose3d& T_W_B = frame.pose.T_W_B;
+  front.process(left, right, T_W_B);
+
+  const cv::Rect region = front.builder().region();
+  const cv::Mat disp = front.disparity_x16()(region);
+  const int invalid = front.matcher().invalid_below();
+  std::size_t valid = 0;
+  for (int y = 0; y < disp.rows; ++y) {
+    const short* row = disp.ptr<short>(y);
+    for (int x = 0; x < disp.cols; ++x) valid += row[x] > invalid ? 1 : 0;
+  }
+  fc.valid_disparity_share = region.area() > 0 ? static_cast<double>(valid) / region.area() : 0.0;
+
+  const PointCloud& cloud = front.cloud();
+  fc.points = cloud.size();
+  fc.points_below_ground = front.points_below_ground();
+  const Pose3d T_W_Cr = front.builder().rectified_camera_pose(T_W_B);
+  const Eigen::Vector3d camera = T_W_Cr.translation();
+  const Eigen::Vector3d body = T_W_B.translation();
+  const Eigen::Vector3d body_up = T_W_B.linear().col(2);
+
+  fc.ground = fit_ground_plane(cloud, camera);
+  fc.tilt_w_deg = fc.ground.found ? fc.ground.tilt_deg(Eigen::Vector3d::UnitZ()) : kNaN;
+  fc.tilt_body_deg = fc.ground.found ? fc.ground.tilt_deg(body_up) : kNaN;
+  fc.camera_height_m = fc.ground.found ? fc.ground.height_of(camera) : kNaN;
+  fc.body_height_m = fc.ground.found ? fc.ground.height_of(body) : kNaN;
+
+  // Nearest visible ground: the fitted plane, else the wheel plane z_B = 0.
+  const Eigen::Vector3d n = fc.ground.found ? fc.ground.normal : body_up;
+  const Eigen::Vector3d p0 = fc.ground.found ? fc.ground.point : body;
+  const StereoGeometry& g = front.rectifier().geometry();
+  fc.nearest_ground_depth_m = fc.nearest_ground_disparity_px = fc.nearest_ground_distance_m = kNaN;
+  const double v = region.y + region.height - 1;
+  for (int k = 0; k < kNearestGroundRays && region.width > 0; ++k) {
+    const double u = region.x + (region.width - 1) * k / double(kNearestGroundRays - 1);
+    double depth = 0;
+    Eigen::Vector3d hit;
+    if (!ray_meets(T_W_Cr, g, u, v, n, p0, depth, hit)) continue;
+    if (std::isnan(fc.nearest_ground_depth_m) || depth < fc.nearest_ground_depth_m) {
+      fc.nearest_ground_depth_m = depth;
+      fc.nearest_ground_disparity_px = g.focal_px * g.baseline_m / depth;
+      fc.nearest_ground_distance_m = (hit - body).head<2>().norm();
+    }
+  }
+
+  fc.nearest_point_distance_m = kNaN;
+  const auto& layers = config.map.layers;
+  std::vector<std::size_t> inside(layers.size(), 0);
+  for (const Measurement& m : cloud) {
+    const double dx = m.p_W.x() - body.x(), dy = m.p_W.y() - body.y();
+    const double d = std::hypot(dx, dy);
+    if (std::isnan(fc.nearest_point_distance_m) || d < fc.nearest_point_distance_m)
+      fc.nearest_point_distance_m = d;
+    for (size_t i = 0; i < layers.size(); ++i) {
+      const double half = 0.5 * layers[i].size * layers[i].resolution_m;
+      if (std::abs(dx) <= half && std::abs(dy) <= half) ++inside[i];
+    }
+  }
+  for (std::size_t c : inside)
+    fc.layer_share.push_back(cloud.empty() ? 0.0 : static_cast<double>(c) / static_cast<double>(cloud.size()));
+  (void)calibration;
+  return fc;
+}
+
+void add_problems(PreflightReport& r, const Config& config, const PreflightLimits& limits) {
+  auto& out = r.problems;
+  const CalibrationCheck& c = r.calibration;
+  if (c.rectified_share < limits.min_rectified_share)
+    out.push_back(fmt("rectification keeps %.0f %% of the image (< %.0f %%): check the "
+                      "calibration's D and R, or stereo.alpha",
+                      100 * c.rectified_share, 100 * limits.min_rectified_share));
+  if (c.rows.found && c.rows.rms_px > limits.max_row_error_rms_px)
+    out.push_back(fmt("rectified rows disagree by %.2f px RMS (max %.2f px) on the chessboard "
+                      "(> %.2f px): the calibration's R, T or intrinsics do not fit these cameras",
+                      c.rows.rms_px, c.rows.max_px, limits.max_row_error_rms_px));
+  if (r.frames.empty()) return;
+
+  std::vector<double> valid, below, tilt_w, tilt_b, body_h, near_d, near_disp, near_pt;
+  bool any_ground = false;
+  for (const FrameCheck& f : r.frames) {
+    valid.push_back(f.valid_disparity_share);
+    const double all = static_cast<double>(f.points + f.points_below_ground);
+    below.push_back(all > 0 ? static_cast<double>(f.points_below_ground) / all : 0.0);
+    tilt_w.push_back(f.tilt_w_deg);
+    tilt_b.push_back(f.tilt_body_deg);
+    body_h.push_back(f.body_height_m);
+    near_d.push_back(f.nearest_ground_depth_m);
+    near_disp.push_back(f.nearest_ground_disparity_px);
+    near_pt.push_back(f.nearest_point_distance_m);
+    any_ground = any_ground || f.ground.found;
+  }
+  const double valid_m = median(valid);
+  if (valid_m < limits.min_valid_disparity_share)
+    out.push_back(fmt("only %.1f %% of the pixels get a disparity (< %.0f %%): too little "
+                      "texture, or the search range misses the scene (stereo.num_disparities)",
+                      100 * valid_m, 100 * limits.min_valid_disparity_share));
+  const double below_m = median(below);
+  if (below_m > limits.max_below_ground_share)
+    out.push_back(fmt("%.0f %% of the points lie below the wheel plane z_B = 0 and are dropped "
+                      "(stereo.max_below_ground): the body origin is not on the ground, or "
+                      "T_body_left or the poses use another convention (docs/conventions.md)",
+                      100 * below_m));
+  if (!any_ground) {
+    out.push_back("no plane holds enough of the points to be the ground: camera height and "
+                  "tilt not measured");
+  } else {
+    const std::string tilt =
+        ground_tilt_problem(median(tilt_w), median(tilt_b), config.hazard.max_slope_deg);
+    if (!tilt.empty()) out.push_back(tilt);
+  }
+
+  // Ground nearer than the search reaches gives no points: a problem when that strip is
+  // inside the finest layer's window, where the map wants it.
+  const double d_max = r.search_min_disparity + r.search_num_disparities;
+  const double z_near = std::max(r.z_min_m, r.calibration.focal_px * r.calibration.baseline_m / d_max);
+  const double depth_m = median(near_d);
+  if (!config.map.layers.empty() && depth_m < z_near) {
+    const auto& l0 = config.map.layers[0];
+    out.push_back(fmt("the nearest ground in view is %.2f m deep (disparity %.0f px), but the "
+                      "search stops at %.0f px or z_min: ground nearer than %.2f m gives no points",
+                      depth_m, median(near_disp), d_max, z_near) +
+                  fmt(" (layer 0's window reaches %.2f m from the body; raise "
+                      "stereo.num_disparities or use stereo.search: ground_band)",
+                      0.5 * l0.size * l0.resolution_m));
+  }
+
+  for (size_t i = 0; i < config.map.layers.size(); ++i) {
+    double best = 0.0;
+    for (const FrameCheck& f : r.frames) best = std::max(best, f.layer_share[i]);
+    if (best > 0.0) continue;
+    const auto& l = config.map.layers[i];
+    out.push_back("no point lands in layer " + std::to_string(i) +
+                  fmt(": its window is %.2f m (%.0f cells of %.3f m) around the body, the "
+                      "nearest points are %.2f m away (map.layers.",
+                      l.size * l.resolution_m, l.size, l.resolution_m, median(near_pt)) +
+                  std::to_string(i) + ".size)");
+  }
+}
+
+}  // namespace
+
+std::string ground_tilt_problem(double tilt_w_deg, double tilt_body_deg, double max_slope_deg) {
+  if (!(tilt_w_deg > max_slope_deg)) return {};
+  return fmt("the ground fitted to the points is tilted %.1f deg in W (%.1f deg in the body "
+             "frame), more than hazard.max_slope_deg %.1f: level ground would map as slope; "
+             "check the poses' and T_body_left's convention (docs/conventions.md)",
+             tilt_w_deg, tilt_body_deg, max_slope_deg);
+}
+
+PreflightReport preflight_check(const Config& config, const Sequence& sequence,
+                                const PreflightOptions& options, const PreflightLimits& limits) {
+  PreflightReport report;
+  report.sequence_dir = sequence.dir.string();
+  const std::vector<SequenceFrame> selected =
+      options.frames.empty() ? sequence.frames : select_frames(sequence.frames, options.frames);
+  report.frames_selected = static_cast<int>(selected.size());
+  std::vector<SequenceFrame> frames;
+  const int n = static_cast<int>(selected.size());
+  const int take = std::min(n, std::max(1, options.max_frames));
+  for (int k = 0; k < take; ++k)
+    frames.push_back(selected[static_cast<size_t>(take == 1 ? 0 : k * (n - 1) / (take - 1))]);
+  check_frame_images(frames, sequence.calibration);
+
+  StereoFrontEnd front(config.stereo, config.sensor, sequence.calibration, /*keep_pixels=*/false);
+  CalibrationCheck& c = report.calibration;
+  c.image = front.rectifier().image_size();
+  c.focal_px = front.rectifier().geometry().focal_px;
+  c.baseline_m = front.rectifier().geometry().baseline_m;
+  const cv::Rect both = front.rectifier().valid_roi() & front.rectifier().valid_roi_right();
+  c.rectified_share = c.image.area() > 0 ? static_cast<double>(both.area()) / c.image.area() : 0;
+  report.z_min_m = config.stereo.z_min_m;
+
+  const std::vector<cv::Size> boards =
+      options.boards.empty() ? std::vector<cv::Size>(std::begin(kCommonBoards), std::end(kCommonBoards))
+                             : options.boards;
+  std::vector<double> dv;
+  for (const SequenceFrame& f : frames) {
+    report.frames.push_back(check_frame(front, f, config, sequence.calibration));
+    // Looking for a board costs more than the frame's stereo: without a named board the
+    // common ones are tried on the first frame only, later frames look for the one found.
+    const bool first = report.frames.size() == 1;
+    if (options.boards.empty() && !first && !c.rows.found) continue;
+    for (const cv::Size& b : boards) {
+      if (c.rows.found && b != c.rows.board) continue;  // one board per sequence
+      if (add_row_errors(front.rectified_left(), front.rectified_right(), b, dv)) {
+        c.rows.found = true;
+        c.rows.board = b;
+        ++c.rows.pairs;
+        break;
+      }
+    }
+  }
+  report.search_min_disparity = front.matcher().min_disparity();
+  report.search_num_disparities = front.matcher().num_disparities();
+  if (!dv.empty()) {
+    double ss = 0;
+    for (double x : dv) {
+      ss += x * x;
+      c.rows.max_px = std::max(c.rows.max_px, std::abs(x));
+    }
+    c.rows.rms_px = std::sqrt(ss / static_cast<double>(dv.size()));
+  }
+  add_problems(report, config, limits);
+  return report;
+}
+
+std::string format_report(const PreflightReport& r) {
+  std::string s;
+  const CalibrationCheck& c = r.calibration;
+  s += "sequence " + r.sequence_dir + ": " + std::to_string(r.frames.size()) + " of " +
+       std::to_string(r.frames_selected) + " frames checked\n";
+  s += fmt("calibration: %.0f x %.0f px, rectified f %.1f px, baseline %.4f m", c.image.width,
+           c.image.height, c.focal_px, c.baseline_m) +
+       fmt(", valid rectified region %.0f %% of the image\n", 100 * c.rectified_share);
+  if (c.rows.found)
+    s += fmt("rectification: chessboard %.0fx%.0f in %.0f pairs, row error %.2f px RMS", c.rows.board.width,
+             c.rows.board.height, c.rows.pairs, c.rows.rms_px) +
+         fmt(" (max %.2f px)\n", c.rows.max_px);
+  else
+    s += "rectification: no chessboard in view, row error not measured\n";
+  s += fmt("disparity search: [%.0f, %.0f) px; z_min %.2f m\n", r.search_min_disparity,
+           r.search_min_disparity + r.search_num_disparities, r.z_min_m);
+  s += "frame         valid  points  below   ground  tilt W  tilt B  cam h   body h  "
+       "near ground (m, px)  near pt  in layer windows\n";
+  for (const FrameCheck& f : r.frames) {
+    char line[512];
+    const double all = static_cast<double>(f.points + f.points_below_ground);
+    std::snprintf(line, sizeof line,
+                  "%-12s %5.1f%% %7zu %5.1f%%  %5.1f%%  %5.1f   %5.1f   %6.3f  %6.3f  %5.2f %6.1f     %6.2f   ",
+                  f.name.c_str(), 100 * f.valid_disparity_share, f.points,
+                  all > 0 ? 100 * static_cast<double>(f.points_below_ground) / all : 0.0,
+                  f.ground.found ? 100 * f.ground.inlier_share : 0.0, f.tilt_w_deg, f.tilt_body_deg,
+                  f.camera_height_m, f.body_height_m, f.nearest_ground_distance_m,
+                  f.nearest_ground_disparity_px, f.nearest_point_distance_m);
+    s += line;
+    for (size_t i = 0; i < f.layer_share.size(); ++i)
+      s += (i ? " L" : "L") + std::to_string(i) + fmt(" %.1f%%", 100 * f.layer_share[i]);
+    s += "\n";
+  }
+  s += "  (valid: pixels with a disparity; below: points under the wheel plane, dropped; "
+       "ground: points on the fitted plane; cam h / body h: left camera and body origin above it)\n";
+  if (r.problems.empty()) {
+    s += "verdict: OK\n";
+  } else {
+    s += "verdict: " + std::to_string(r.problems.size()) +
+         (r.problems.size() == 1 ? " problem\n" : " problems\n");
+    for (const std::string& p : r.problems) s += "  - " + p + "\n";
+  }
+  return s;
+}
+
+}  // namespace hazmap
