@@ -24,7 +24,8 @@ struct Command {
 
 const Command kCommands[] = {
     {"run", hazmap::cli::cmd_run,
-     "--config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--quiet]"},
+     "--config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--overwrite]\n"
+     "                      [--quiet]"},
     {"stereo", hazmap::cli::cmd_stereo,
      "--config FILE --sequence DIR --out DIR [--frames A:B]   rectified PNGs, disparity, PLY"},
     {"simulate", hazmap::cli::cmd_simulate,
