@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds hazmap (Release) and maps the embedded sample sequence
-# data/sample with config/default.yaml into out/demo/.
+# data/sample with config/default.yaml into out/demo/ (replacing the previous demo's
+# output: --overwrite, so the script can be run again).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/tools/install_deps.sh"
 "$root/tools/build.sh" Release
 out="$root/out/demo"
 "$root/build/hazmap" run --config "$root/config/default.yaml" --sequence "$root/data/sample" \
-  --out "$out" "$@"
+  --out "$out" --overwrite "$@"
 echo
 echo "Wrote to $out:"
 echo "  summary.json, run.log"

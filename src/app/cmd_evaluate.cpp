@@ -29,6 +29,9 @@ as the pipeline resolves it), "fused" and "footprint" (h_min: hazard.critical_he
 footprint only when the run wrote footprint_hazard.jdem). When the sequence
 has poses_true.txt (simulate --drift), the ground truth is placed into each frame's map
 frame with T_map_W = T_W_B(drifted) T_W_B(true)^-1.
+The run must have been made from this sequence: the poses fingerprint in RUN/summary.json
+must equal that of SEQ/poses.txt (all its poses, so runs of --frames A:B match), else one
+line names both folders (exit 1); a run older than the fingerprint gets a warning.
 Writes into --out (default RUN/eval): metrics.csv (frame x layer), summary.csv and
 metrics.json (per layer, pooled over frames), metrics_over_time.png, errors_<frame>.png
 and report.html (static; open it in a browser).

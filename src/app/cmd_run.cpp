@@ -11,6 +11,7 @@
 #include "cli.hpp"
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/config.hpp"
+#include "hazmap/io/output_folder.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/sequence_runner.hpp"
 
@@ -18,7 +19,7 @@ namespace hazmap::cli {
 
 namespace {
 const char* kRunUsage = R"(usage: hazmap run --config FILE --sequence DIR --out DIR [--frames A:B]
-                  [--set KEY=VALUE]... [--mosaic] [--quiet]
+                  [--set KEY=VALUE]... [--mosaic] [--overwrite] [--quiet]
                   [--poses CSV] [--pose-frame body|left_camera] [--max-pose-gap SECONDS]
 
 Maps a stereo sequence (SEQ/left, SEQ/right, calibration.yaml, poses.txt) frame by frame.
@@ -28,16 +29,22 @@ the left camera per --pose-frame) or else mav0/state_groundtruth_estimate0; imag
 without a pose within --max-pose-gap (0.1 s) are left out.
 Writes OUT/frames/<frame>/L<i>_{hazard,height}.png, L<i>_{height,variance,hazard}.jdem
 (.tif with --set output.format=geotiff), fused_hazard.{png,jdem}, OUT/summary.json (once,
-after the last frame) and OUT/run.log. A writer thread writes the frames
-(output.queue_frames); each frame folder appears complete or not at all. Every input,
-every frame's image header included, is checked before anything is written; a frame
-damaged later stops the run with one line naming it, frames written before it stay
-complete and an earlier run's summary.json is left as it was. SIGINT/SIGTERM stop the run
-after the frame in flight, which is written.
+after the last frame; it records the sequence and a fingerprint of its poses, which
+`hazmap evaluate` checks) and OUT/run.log. A writer thread writes the frames
+(output.queue_frames); each frame folder appears complete or not at all. OUT must be
+absent or empty, so that two runs' frames never mix. Every input, every frame's image
+header included, is checked before anything is written or removed; a frame damaged
+later stops the run with one line naming it, frames written before it stay complete and
+no summary.json is written. SIGINT/SIGTERM stop the run after the frame in flight,
+which is written.
   --frames A:B   frame indices [A, B) of the sorted frames (Python-like, negatives count
                  from the end)
   --set K=V      override a YAML key by dotted path, e.g. --set map.layers.0.size=64
   --mosaic       also write OUT/mosaic/<frame>.png: every layer side by side (a film)
+  --overwrite    OUT may hold an earlier hazmap output: frames/, mosaic/, eval/,
+                 summary.json, stereo_summary.json, run.log. They are removed (after every
+                 input is checked) before the run starts. A folder holding anything else
+                 is refused, with or without --overwrite, and left untouched.
   --quiet        no per-frame progress on the terminal
 
 SIGINT or SIGTERM stops the run after the frame in flight: that frame is written, the
@@ -76,12 +83,16 @@ int cmd_run(int argc, char** argv) {
   const Args args = parse_args(argc, argv,
                                {"config", "sequence", "out", "frames", "poses", "pose-frame",
                                 "max-pose-gap"},
-                               {"quiet", "mosaic"});
+                               {"quiet", "mosaic", "overwrite"});
   hazmap::RunOptions options;
   options.config_path = args.required("config");
   options.sequence_dir = args.required("sequence");
   options.out_dir = args.required("out");
   options.frames = args.get("frames");
+  // A wrong OUT is a command-line mistake: said at once, before the inputs are loaded.
+  const hazmap::OutputFolder out = hazmap::inspect_output_folder(options.out_dir);
+  const std::string refusal = hazmap::output_folder_refusal(out, args.on("overwrite"));
+  if (!refusal.empty()) throw UsageError(refusal);
   // Check every input before the first line is logged or written: a bad input gives
   // exactly one line on stderr and leaves OUT untouched.
   std::vector<std::string> sets = args.sets;
@@ -94,6 +105,8 @@ int cmd_run(int argc, char** argv) {
   install_stop_handlers();
   options.stop_signal = &g_stop_signal;
   hazmap::SequenceRun run(config, sequence, options);
+  // Every check has passed: only now may an earlier output go (--overwrite).
+  hazmap::clear_output_folder(out);
   setup_logging(options.out_dir / "run.log", args.on("quiet"));
   spdlog::info("hazmap {} run: config {}, sequence {}, out {}", HAZMAP_VERSION,
                options.config_path.string(), options.sequence_dir.string(),

@@ -12,6 +12,7 @@
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/io/output_folder.hpp"
 #include "hazmap/io/ply.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
@@ -23,7 +24,7 @@ namespace hazmap::cli {
 namespace {
 const char* kStereoUsage =
     R"(usage: hazmap stereo --config FILE --sequence DIR --out DIR [--frames A:B]
-                     [--set KEY=VALUE]... [--quiet]
+                     [--set KEY=VALUE]... [--overwrite] [--quiet]
 
 Runs the stereo front end (SPEC 3-4: grey, rectify, StereoBM/SGBM, points with
 covariance) on a sequence and writes, per frame, OUT/frames/<frame>/:
@@ -38,6 +39,9 @@ directly; EuRoC frames take mav0/state_groundtruth_estimate0 poses when present,
 the identity (the cloud is then in EuRoC's body frame).
   --frames A:B   frame indices [A, B) of the sorted frames
   --set K=V      override a YAML key, e.g. --set stereo.matcher=sgbm
+  --overwrite    OUT may hold an earlier hazmap output (as for hazmap run): removed
+                 before the first frame; OUT must otherwise be absent or empty, and a
+                 folder holding anything else is refused and left untouched
   --quiet        no per-frame progress on the terminal
 )";
 
@@ -54,10 +58,15 @@ int cmd_stereo(int argc, char** argv) {
     std::fputs(kStereoUsage, stdout);
     return kExitOk;
   }
-  const Args args = parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet"});
+  const Args args =
+      parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet", "overwrite"});
   const std::filesystem::path config_path = args.required("config");
   const std::filesystem::path sequence_dir = args.required("sequence");
   const std::filesystem::path out_dir = args.required("out");
+  // The same rule as hazmap run's: frames of two runs never mix in one folder.
+  const hazmap::OutputFolder out = hazmap::inspect_output_folder(out_dir);
+  const std::string refusal = hazmap::output_folder_refusal(out, args.on("overwrite"));
+  if (!refusal.empty()) throw UsageError(refusal);
   // Every input is checked before anything is logged or written.
   const hazmap::Config config = hazmap::load_config(config_path, args.sets);
   hazmap::Sequence sequence;
@@ -73,6 +82,7 @@ int cmd_stereo(int argc, char** argv) {
                          : sequence.frames;
   hazmap::check_frame_images(frames, sequence.calibration);
   hazmap::StereoFrontEnd front_end(config.stereo, config.sensor, sequence.calibration);
+  hazmap::clear_output_folder(out);  // every check has passed
 
   setup_logging(out_dir / "run.log", args.on("quiet"));
   const hazmap::StereoGeometry& g = front_end.rectifier().geometry();

@@ -24,7 +24,8 @@ struct Command {
 
 const Command kCommands[] = {
     {"run", hazmap::cli::cmd_run,
-     "--config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--quiet]"},
+     "--config FILE --sequence DIR --out DIR [--frames A:B] [--set KEY=VALUE]... [--overwrite]\n"
+     "                      [--quiet]"},
     {"check", hazmap::cli::cmd_check,
      "--config FILE --sequence DIR [--frames A:B] [--count N]   pre-flight report, no map"},
     {"stereo", hazmap::cli::cmd_stereo,

@@ -72,21 +72,84 @@ std::string read_text(const fs::path& path) {
 
 }  // namespace
 
-Config read_run_config(const fs::path& run_dir) {
+namespace {
+
+/// RUN/summary.json, which is JSON, read as YAML (a superset).
+YAML::Node load_summary(const fs::path& run_dir) {
   const fs::path summary = run_dir / "summary.json";
   if (!fs::exists(summary))
     throw Error(summary.string() + ": missing (is " + run_dir.string() + " the OUT of hazmap run?)");
-  // summary.json is JSON, which yaml-cpp reads as YAML; its settings_yaml is the full
-  // configuration as used, parsed by the same strict loader as a config file.
-  std::string settings;
   try {
-    const YAML::Node root = YAML::LoadFile(summary.string());
-    if (!root["settings_yaml"]) throw Error(summary.string() + ": no \"settings_yaml\" key");
-    settings = root["settings_yaml"].as<std::string>();
+    return YAML::LoadFile(summary.string());
   } catch (const YAML::Exception& e) {
     throw Error(summary.string() + ": " + e.what());
   }
-  return parse_config(settings, summary.string() + " settings_yaml");
+}
+
+/// A string-valued key of summary.json; "" when absent.
+std::string summary_string(const YAML::Node& root, const char* key, const fs::path& run_dir) {
+  try {
+    return root[key] ? root[key].as<std::string>() : std::string();
+  } catch (const YAML::Exception& e) {
+    throw Error((run_dir / "summary.json").string() + ": \"" + key + "\": " + e.what());
+  }
+}
+
+Config config_from_summary(const YAML::Node& root, const fs::path& run_dir) {
+  // settings_yaml is the full configuration as used, parsed by the same strict loader as
+  // a config file.
+  const std::string summary = (run_dir / "summary.json").string();
+  if (!root["settings_yaml"]) throw Error(summary + ": no \"settings_yaml\" key");
+  return parse_config(summary_string(root, "settings_yaml", run_dir), summary + " settings_yaml");
+}
+
+RunSource source_from_summary(const YAML::Node& root, const fs::path& run_dir) {
+  RunSource source;
+  source.sequence = summary_string(root, "sequence", run_dir);
+  const std::string hex = summary_string(root, "poses_fingerprint", run_dir);
+  if (!hex.empty()) {
+    source.poses_fingerprint = parse_fingerprint_hex(hex);
+    if (!source.poses_fingerprint)
+      throw Error((run_dir / "summary.json").string() + ": \"poses_fingerprint\" '" + hex +
+                  "' is not 16 hexadecimal digits");
+  }
+  return source;
+}
+
+void check_source(const RunSource& source, const fs::path& run_dir, const fs::path& sequence_dir) {
+  if (!source.poses_fingerprint) {
+    spdlog::warn("{}: records no poses fingerprint (a run made before hazmap recorded one): "
+                 "cannot check that it was made from {}",
+                 (run_dir / "summary.json").string(), sequence_dir.string());
+    return;
+  }
+  const std::uint64_t given = read_poses_fingerprint(sequence_dir);
+  if (given == *source.poses_fingerprint) return;
+  const std::string given_abs = absolute_folder(sequence_dir).string();
+  if (given_abs == source.sequence)
+    throw Error("run " + run_dir.string() + " was made from " + source.sequence +
+                " (poses fingerprint " + fingerprint_hex(*source.poses_fingerprint) +
+                "), whose poses.txt has changed since (now " + fingerprint_hex(given) +
+                "): run it again on the sequence as it is");
+  throw Error("run " + run_dir.string() + " was made from sequence " +
+              (source.sequence.empty() ? std::string("(not recorded)") : source.sequence) +
+              " (poses fingerprint " + fingerprint_hex(*source.poses_fingerprint) + "), not from " +
+              given_abs + " (" + fingerprint_hex(given) +
+              "): evaluate it against the sequence it was run on");
+}
+
+}  // namespace
+
+Config read_run_config(const fs::path& run_dir) {
+  return config_from_summary(load_summary(run_dir), run_dir);
+}
+
+RunSource read_run_source(const fs::path& run_dir) {
+  return source_from_summary(load_summary(run_dir), run_dir);
+}
+
+void check_run_sequence(const fs::path& run_dir, const fs::path& sequence_dir) {
+  check_source(read_run_source(run_dir), run_dir, sequence_dir);
 }
 
 DenseGrid read_dense_grid(const fs::path& path) {
@@ -526,7 +589,12 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
 RunEvaluation evaluate_run(const EvaluationOptions& options) {
   RunEvaluation ev;
   ev.out_dir = options.out_dir.empty() ? options.run_dir / "eval" : options.out_dir;
-  const Config config = read_run_config(options.run_dir);
+  const YAML::Node summary = load_summary(options.run_dir);
+  const Config config = config_from_summary(summary, options.run_dir);
+  // Before anything else of the sequence is read: scoring one sequence's frames against
+  // another's ground truth gives numbers without meaning and no error.
+  check_source(source_from_summary(summary, options.run_dir), options.run_dir,
+               options.sequence_dir);
   const GroundTruth gt = read_ground_truth(options.sequence_dir);
 
   const fs::path frames_dir = options.run_dir / "frames";

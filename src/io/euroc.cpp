@@ -252,6 +252,9 @@ Sequence load_euroc_sequence(const fs::path& dir, const EurocOptions& options) {
   if (seq.frames.empty())
     throw Error(mav0.string() + ": no stereo pair with a pose" +
                 (poses_path.empty() ? "" : " in " + poses_path.string()));
+  // The poses actually used (interpolated, in the body frame): what import_euroc writes
+  // to poses.txt, so a run in place and a run of the import fingerprint alike.
+  seq.poses_fingerprint = poses_fingerprint(seq.frames);
   return seq;
 }
 

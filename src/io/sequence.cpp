@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -33,7 +35,102 @@ std::map<std::string, fs::path> list_images(const fs::path& dir) {
   return images;
 }
 
+/// poses.txt parsed; Error naming the file when it cannot be read.
+std::vector<std::pair<std::string, FramePose>> read_pose_file(const fs::path& poses_path) {
+  std::ifstream in(poses_path);
+  if (!in) throw Error(poses_path.string() + ": cannot open pose file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_poses(text.str(), poses_path.string());
+}
+
+/// FNV-1a, 64 bit (Fowler, Noll, Vo): tiny, stable across platforms and versions, and
+/// enough to tell two pose files apart (it guards against mistakes, not adversaries).
+class Fnv1a64 {
+ public:
+  void bytes(const void* data, size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * kPrime;
+  }
+  /// The value rounded to a multiple of `quantum`, as 8 bytes least significant first
+  /// (the same on any host). Hashed as a double, so no value overflows an integer.
+  void rounded(double value, double quantum) {
+    const double q = std::nearbyint(value / quantum) + 0.0;  // + 0.0: -0 hashes as 0
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &q, sizeof bits);
+    unsigned char le[sizeof bits];
+    for (size_t i = 0; i < sizeof bits; ++i) le[i] = static_cast<unsigned char>(bits >> (8 * i));
+    bytes(le, sizeof le);
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  static constexpr std::uint64_t kOffsetBasis = 14695981039346656037ull;
+  static constexpr std::uint64_t kPrime = 1099511628211ull;
+  std::uint64_t hash_ = kOffsetBasis;
+};
+
 }  // namespace
+
+std::uint64_t poses_fingerprint(std::vector<std::pair<std::string, FramePose>> poses) {
+  std::sort(poses.begin(), poses.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  Fnv1a64 h;
+  for (const auto& [name, pose] : poses) {
+    h.bytes(name.data(), name.size());
+    h.bytes("", 1);  // a NUL ends the name: "ab"+"c" and "a"+"bc" differ
+    const Eigen::Vector3d p = pose.T_W_B.translation();
+    for (int i = 0; i < 3; ++i) h.rounded(p[i], kFingerprintQuantumM);
+    const Eigen::Matrix3d R = pose.T_W_B.linear();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) h.rounded(R(r, c), kFingerprintQuantumRad);
+    const unsigned char has_noise = pose.has_noise ? 1 : 0;
+    h.bytes(&has_noise, 1);
+    if (pose.has_noise) {
+      h.rounded(pose.noise.sx_m, kFingerprintQuantumM);
+      h.rounded(pose.noise.sy_m, kFingerprintQuantumM);
+      h.rounded(pose.noise.sz_m, kFingerprintQuantumM);
+      h.rounded(pose.noise.syaw_rad, kFingerprintQuantumRad);
+    }
+  }
+  return h.value();
+}
+
+std::uint64_t poses_fingerprint(const std::vector<SequenceFrame>& frames) {
+  std::vector<std::pair<std::string, FramePose>> poses;
+  poses.reserve(frames.size());
+  for (const SequenceFrame& f : frames) poses.emplace_back(f.name, f.pose);
+  return poses_fingerprint(std::move(poses));
+}
+
+std::uint64_t fingerprint_of(const Sequence& sequence) {
+  return sequence.poses_fingerprint ? *sequence.poses_fingerprint
+                                    : poses_fingerprint(sequence.frames);
+}
+
+std::uint64_t read_poses_fingerprint(const fs::path& sequence_dir) {
+  return poses_fingerprint(read_pose_file(sequence_dir / "poses.txt"));
+}
+
+fs::path absolute_folder(const fs::path& dir) {
+  fs::path p = fs::absolute(dir).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
+  return p;
+}
+
+std::string fingerprint_hex(std::uint64_t fingerprint) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(fingerprint));
+  return text;
+}
+
+std::optional<std::uint64_t> parse_fingerprint_hex(const std::string& text) {
+  constexpr size_t kDigits = 16;
+  if (text.size() != kDigits ||
+      !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isxdigit(c); }))
+    return std::nullopt;
+  return static_cast<std::uint64_t>(std::strtoull(text.c_str(), nullptr, 16));
+}
 
 std::string check_position(double x_m, double y_m, double z_m) {
   const double v[3] = {x_m, y_m, z_m};
@@ -119,12 +216,9 @@ Sequence load_sequence(const fs::path& dir) {
                   path.string() + ")");
 
   const fs::path poses_path = dir / "poses.txt";
-  std::ifstream in(poses_path);
-  if (!in) throw Error(poses_path.string() + ": cannot open pose file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::map<std::string, FramePose> poses;
-  for (auto& [name, pose] : parse_poses(text.str(), poses_path.string())) poses[name] = pose;
+  const auto records = read_pose_file(poses_path);
+  seq.poses_fingerprint = poses_fingerprint(records);
+  std::map<std::string, FramePose> poses(records.begin(), records.end());
 
   for (const auto& [name, left_path] : lefts) {
     const auto it = poses.find(name);

@@ -45,7 +45,8 @@ struct RunState {
 };
 
 void write_summary(const std::filesystem::path& path, const Config& config,
-                   const RunOptions& options, const std::vector<FrameRecord>& frames,
+                   const Sequence& sequence, const RunOptions& options,
+                   const std::vector<FrameRecord>& frames,
                    int frames_total, const RunState& state) {
   JsonWriter j;
   j.begin_object();
@@ -55,7 +56,11 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("stopped_by_signal").value(state.stop_signal);
     j.key("stopped_after_frame").value(frames.empty() ? std::string() : frames.back().name);
   }
-  j.key("sequence").value(options.sequence_dir.string());
+  // Which sequence made these frames, for `hazmap evaluate` to check (issue 22): its
+  // folder, absolute, and the fingerprint of all its poses, not only the frames
+  // selected, so that a run of --frames A:B still matches its sequence.
+  j.key("sequence").value(absolute_folder(options.sequence_dir).string());
+  j.key("poses_fingerprint").value(fingerprint_hex(fingerprint_of(sequence)));
   j.key("config").value(options.config_path.string());
   j.key("frames_selected").value(frames_total);
   j.key("frames_processed").value(frames.size());
@@ -327,7 +332,7 @@ RunResult SequenceRun::run() {
   state.finished = result.stop_signal == 0;
   state.stop_signal = result.stop_signal;
   state.writer = writer.stats();
-  write_summary(options.out_dir / "summary.json", config, options, records, n, state);
+  write_summary(options.out_dir / "summary.json", config, sequence_, options, records, n, state);
   return result;
 }
 

@@ -139,7 +139,8 @@ TEST(Cli, FailedRunLeavesEarlierOutputsIntact) {
   const auto jdem = dir / "out/frames/000000/L0_height.jdem";
   const std::string before = testing::read_text(jdem);
   std::filesystem::remove(dir / "seq/calibration.yaml");
-  const CommandResult r = run_cli(tiny_run_args(dir));
+  // --overwrite: the earlier output goes only once every input has passed its check.
+  const CommandResult r = run_cli(tiny_run_args(dir) + " --overwrite");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("calibration.yaml: cannot open calibration file"), std::string::npos);
   EXPECT_EQ(before, testing::read_text(jdem));
@@ -185,13 +186,14 @@ TEST(Cli, OverflowingPosesResolutionsAndStridesStopWithOneLine) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out/frames/000000/L0_height.jdem"));
 
   testing::write_tiny_sequence(dir / "seq", 2);
-  r = run_cli(tiny_run_args(dir) + " --set map.layers.0.resolution=1e-300");
+  // The run above got as far as OUT/run.log: the next ones replace it.
+  r = run_cli(tiny_run_args(dir) + " --overwrite --set map.layers.0.resolution=1e-300");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("key 'map.layers.0.resolution': must be in [1e-4, 1000] m"),
             std::string::npos)
       << r.output;
-  r = run_cli(tiny_run_args(dir) + " --set stereo.stride=2147483647");
+  r = run_cli(tiny_run_args(dir) + " --overwrite --set stereo.stride=2147483647");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("key 'stereo.stride': must be in [1, 4096]"), std::string::npos)
@@ -289,6 +291,15 @@ TEST(Cli, RunReadsAnEurocFolderInPlaceAsImportEurocThenRunWould) {
     EXPECT_GT(known, 1000) << name;
   }
   EXPECT_EQ(frames, 2);
+  // Both runs record the same poses fingerprint (issue 22): the poses used in place are
+  // the ones import-euroc wrote.
+  const auto fingerprint = [&](const char* run) {
+    const std::string summary = file_text(dir / run / "summary.json");
+    const auto at = summary.find("\"poses_fingerprint\": \"");
+    return at == std::string::npos ? std::string("none") : summary.substr(at + 22, 16);
+  };
+  EXPECT_EQ(fingerprint("direct"), fingerprint("imported"));
+  EXPECT_NE(fingerprint("direct"), "none");
   // The EuRoC options belong to EuRoC folders only.
   testing::write_tiny_sequence(dir / "tiny", 1);
   r = run_cli("run --config " + config + " --sequence " + (dir / "tiny").string() + poses +

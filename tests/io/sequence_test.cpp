@@ -102,5 +102,61 @@ TEST(Sequence, ImplausiblePositionIsNamedWithFileAndLine) {
   EXPECT_NO_THROW(parse_poses("a 0 1e7 -1e7 1e7 0 0 0 1\n", "p"));
 }
 
+// Issue 22: the fingerprint `hazmap evaluate` compares. It must tell two trajectories
+// apart by any change that could move a map cell, and nothing else.
+TEST(Sequence, PosesFingerprintChangesWithOnePoseOnly) {
+  const std::string base =
+      "000000 0 0 0 0 0 0 0 1\n000001 1 0.04 0 0 0 0 0 1\n000002 2 0.08 0.01 0 0 0 0.2 "
+      "0.9797958971132712\n";
+  const auto fp = [](const std::string& text) { return poses_fingerprint(parse_poses(text, "p")); };
+  const std::uint64_t reference = fp(base);
+  // One position moved by 1 mm, one heading turned, one frame renamed, noise added: each
+  // is another sequence.
+  EXPECT_NE(fp("000000 0 0 0 0 0 0 0 1\n000001 1 0.041 0 0 0 0 0 1\n000002 2 0.08 0.01 0 0 0 "
+               "0.2 0.9797958971132712\n"),
+            reference);
+  EXPECT_NE(fp("000000 0 0 0 0 0 0 0 1\n000001 1 0.04 0 0 0 0 0.01 0.99995\n000002 2 0.08 0.01 "
+               "0 0 0 0.2 0.9797958971132712\n"),
+            reference);
+  EXPECT_NE(fp("000000 0 0 0 0 0 0 0 1\n000009 1 0.04 0 0 0 0 0 1\n000002 2 0.08 0.01 0 0 0 "
+               "0.2 0.9797958971132712\n"),
+            reference);
+  EXPECT_NE(fp("000000 0 0 0 0 0 0 0 1 0.01 0.01 0.01 0.01\n000001 1 0.04 0 0 0 0 0 1\n000002 "
+               "2 0.08 0.01 0 0 0 0.2 0.9797958971132712\n"),
+            reference);
+  EXPECT_NE(fp("000000 0 0 0 0 0 0 0 1\n000001 1 0.04 0 0 0 0 0 1\n"), reference);  // one fewer
+  // The same poses written otherwise: another line order, comments, other timestamps
+  // (unused by the mapping), -q for q, and digits beyond a double's round trip.
+  EXPECT_EQ(fp("# reordered\n000002 7 0.08 0.01 0 -0 -0 -0.2 -0.9797958971132712\n000000 0 "
+               "0 0 0 0 0 0 1\n000001 1 0.0400000000000001 0 0 0 0 0 1\n"),
+            reference);
+  // Written as summary.json stores it, and read back.
+  EXPECT_EQ(fingerprint_hex(0x00ab0000000000cdull), "00ab0000000000cd");
+  EXPECT_EQ(parse_fingerprint_hex(fingerprint_hex(reference)), reference);
+  EXPECT_FALSE(parse_fingerprint_hex("12345"));
+  EXPECT_FALSE(parse_fingerprint_hex("zz00000000000000"));
+}
+
+TEST(Sequence, LoadedSequenceFingerprintsEveryRecordOfPosesTxt) {
+  testing::TempDir dir;
+  testing::write_tiny_sequence(dir.path(), 3);
+  const Sequence seq = load_sequence(dir.path());
+  ASSERT_TRUE(seq.poses_fingerprint.has_value());
+  EXPECT_EQ(*seq.poses_fingerprint, read_poses_fingerprint(dir.path()));
+  EXPECT_EQ(fingerprint_of(seq), poses_fingerprint(seq.frames));  // one pose per frame here
+  // A pose without images is part of the sequence's record, and needs no images to read.
+  std::ofstream(dir / "poses.txt", std::ios::app) << "000099 99 3.96 0 0 0 0 0 1\n";
+  const Sequence more = load_sequence(dir.path());
+  EXPECT_EQ(more.frames.size(), 3u);
+  EXPECT_NE(*more.poses_fingerprint, *seq.poses_fingerprint);
+  std::filesystem::remove_all(dir / "left");
+  EXPECT_EQ(read_poses_fingerprint(dir.path()), *more.poses_fingerprint);
+  // A Sequence assembled in code fingerprints its frames.
+  Sequence built;
+  built.frames = seq.frames;
+  EXPECT_EQ(fingerprint_of(built), fingerprint_of(seq));
+  EXPECT_THROW(read_poses_fingerprint(dir / "absent"), Error);
+}
+
 }  // namespace
 }  // namespace hazmap

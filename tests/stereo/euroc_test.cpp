@@ -130,6 +130,16 @@ TEST(Euroc, ImportWritesOurLayoutWithTheLeftCameraPoses) {
   EXPECT_EQ(std::filesystem::file_size(seq.frames.front().left_path),
             std::filesystem::file_size(euroc_dir() / "mav0/cam0/data" /
                                        (std::string(kFloorFrame) + ".png")));
+  // Issue 22: the poses read in place and the poses.txt written from them fingerprint
+  // alike (what lets `hazmap evaluate` take an in-place run against the import), and
+  // the other --pose-frame, which uses other poses, does not.
+  ASSERT_TRUE(seq.poses_fingerprint.has_value());
+  const Sequence in_place = load_euroc_sequence(euroc_dir(), options);
+  ASSERT_TRUE(in_place.poses_fingerprint.has_value());
+  EXPECT_EQ(*in_place.poses_fingerprint, *seq.poses_fingerprint);
+  EXPECT_EQ(read_poses_fingerprint(dst.path()), *seq.poses_fingerprint);
+  options.poses_frame = EurocPoseFrame::body;
+  EXPECT_NE(*load_euroc_sequence(euroc_dir(), options).poses_fingerprint, *seq.poses_fingerprint);
 }
 
 TEST(Euroc, PosesAreInterpolatedBetweenSamplesOrTheFrameIsLeftOut) {

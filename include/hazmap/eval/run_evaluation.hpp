@@ -10,9 +10,11 @@
 //   report.html            a static page with the table, the plots and a frame viewer
 //
 // Inputs. RUN/summary.json ("settings_yaml": the configuration used, for the layers'
-// resolution, rule and hazard parameters), RUN/frames/<frame>/L<i>_{height,variance,
-// hazard}.jdem (+ L<i>_slope_{x,y}.jdem for CCM), fused_hazard.jdem and, when the run
-// wrote it in every frame, footprint_hazard.jdem (else that map is skipped); SEQ/gt_height.jdem,
+// resolution, rule and hazard parameters; "poses_fingerprint": checked against
+// SEQ/poses.txt first, so that a run is never scored against another sequence),
+// RUN/frames/<frame>/L<i>_{height,variance,hazard}.jdem (+ L<i>_slope_{x,y}.jdem for
+// CCM), fused_hazard.jdem and, when the run wrote it in every frame,
+// footprint_hazard.jdem (else that map is skipped); SEQ/gt_height.jdem,
 // SEQ/gt_hazard.jdem, SEQ/poses.txt and, if the run drove on drifted poses,
 // SEQ/poses_true.txt.
 //
@@ -35,7 +37,9 @@
 // (horizontally, in W) of the rover's true position at that frame (poses_true.txt when
 // present, else poses.txt), reported with a near_ prefix.
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +93,26 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
 /// The configuration a run used, from RUN/summary.json "settings_yaml". Throws Error
 /// naming the file when it is missing or has no settings.
 Config read_run_config(const std::filesystem::path& run_dir);
+
+/// Which sequence a run was made from, as RUN/summary.json records it.
+struct RunSource {
+  std::string sequence;  ///< its folder (absolute since the fingerprint is recorded)
+  /// poses_fingerprint() of the sequence's poses; nullopt for a run made before it was
+  /// recorded.
+  std::optional<std::uint64_t> poses_fingerprint;
+};
+
+/// RUN/summary.json's "sequence" and "poses_fingerprint". Throws Error naming the file
+/// when it is missing, or its fingerprint is not 16 hexadecimal digits.
+RunSource read_run_source(const std::filesystem::path& run_dir);
+
+/// The run was made from `sequence_dir`: its recorded poses fingerprint equals that of
+/// SEQ/poses.txt (read_poses_fingerprint; all poses, so a run of --frames A:B matches
+/// too). Throws Error, one line naming both folders, when they differ; a run that
+/// records no fingerprint (older than the record) gets a warning through spdlog instead.
+/// evaluate_run does this first.
+void check_run_sequence(const std::filesystem::path& run_dir,
+                        const std::filesystem::path& sequence_dir);
 
 /// Reads a JDEM grid into a DenseGrid; throws Error naming the file if it is rotated
 /// (yaw != 0) or unreadable.
