@@ -44,12 +44,13 @@ py::dict metrics_dict(const eval::MetricSums& sums) {
 }
 
 py::dict evaluate(const std::filesystem::path& run_dir, const std::filesystem::path& sequence_dir,
-                  const std::filesystem::path& out_dir, const py::object& near_radius_m,
+                  const py::object& out_dir, const py::object& near_radius_m,
                   const std::vector<std::string>& error_map_frames, bool write_report) {
   eval::EvaluationOptions options;
   options.run_dir = run_dir;
   options.sequence_dir = sequence_dir;
-  options.out_dir = out_dir;
+  // None, not an empty path: pathlib reads "" as ".", the current folder.
+  if (!out_dir.is_none()) options.out_dir = out_dir.cast<std::filesystem::path>();
   options.error_map_frames = error_map_frames;
   options.write_report = write_report;
   if (!near_radius_m.is_none()) {
@@ -160,7 +161,7 @@ noise (sx, sy, sz, syaw) or None}]}, frames sorted by name.)");
 the rest). Returns {frames, width_px, height_px, rocks, craters}.)");
 
   m.def("evaluate", &evaluate, py::arg("run_dir"), py::arg("sequence_dir"),
-        py::arg("out_dir") = std::filesystem::path(), py::arg("near_radius_m") = py::none(),
+        py::arg("out_dir") = py::none(), py::arg("near_radius_m") = py::none(),
         py::arg("error_map_frames") = std::vector<std::string>{}, py::arg("write_report") = true,
         R"(Scores a run folder (the --out of `hazmap run`) against its sequence's ground truth,
 as `hazmap evaluate --run RUN --sequence SEQ` (SPEC 10), writing the same files into
