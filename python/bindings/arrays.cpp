@@ -1,7 +1,10 @@
 #include "arrays.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 

@@ -1,5 +1,8 @@
 // File readers, the simulator and the evaluation: what a script needs around a Pipeline.
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -54,7 +57,11 @@ py::dict evaluate(const std::filesystem::path& run_dir, const std::filesystem::p
   options.error_map_frames = error_map_frames;
   options.write_report = write_report;
   if (!near_radius_m.is_none()) {
-    options.near_radius_m = near_radius_m.cast<double>();
+    try {
+      options.near_radius_m = near_radius_m.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("near_radius_m: expected a number (metres) or None");
+    }
     if (!(options.near_radius_m > 0) || !std::isfinite(options.near_radius_m))
       throw py::value_error("near_radius_m: expected a positive radius in metres");
   }
