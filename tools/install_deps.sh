@@ -9,6 +9,8 @@ packages=(
   libgdal-dev gdal-bin
   libgtest-dev libbenchmark-dev
   parallel chromium
+  pybind11-dev python3-pybind11 python3-dev python3-numpy  # Python bindings and their tests
+  python3-matplotlib                                       # examples/python only
 )
 
 missing=()

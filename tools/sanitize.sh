@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds hazmap with AddressSanitizer + UndefinedBehaviorSanitizer (float-cast-overflow
-# too) into build-sanitize/ (tests only, no benchmarks) and runs the whole ctest suite
-# under it, the seeded parser fuzz pass (ParserFuzz.*) included. Any sanitizer report
+# too) into build-sanitize/ (tests only, no benchmarks; no Python bindings either, since
+# HAZMAP_SANITIZE turns HAZMAP_BUILD_PYTHON off) and runs the whole ctest suite under it,
+# the seeded parser fuzz pass (ParserFuzz.*) included. Any sanitizer report
 # aborts its test, so the script exits non-zero. Usage: tools/sanitize.sh
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
