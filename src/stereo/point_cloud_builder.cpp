@@ -3,10 +3,42 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "hazmap/core/error.hpp"
 
 namespace hazmap {
+
+bool ray_blocked(const KnownTerrain& terrain, const Eigen::Vector3d& camera_W,
+                 const Eigen::Vector3d& ray_W, const RayCheck& c) {
+  if (!(c.depth_m > 0.0) || !(c.sample_m > 0.0)) return false;
+  const double step = c.sample_m / ray_W.norm();  // one sample per cell length along the ray
+  // The first sample at or after depth z_lo where the ray can lie below `level` (a straight
+  // line: a descending ray from where it crosses the level on, another one nowhere unless
+  // it starts below); infinity when none.
+  const auto first_below = [&](double z_lo, double level) {
+    const double z0 = ray_W.z() < 0.0 ? std::max(z_lo, (camera_W.z() - level) / -ray_W.z())
+                      : camera_W.z() + ray_W.z() * z_lo < level
+                          ? z_lo
+                          : std::numeric_limits<double>::infinity();
+    return step * std::max(1.0, std::ceil(z0 / step));
+  };
+  // Only where the ray lies below the highest top (known height + 3 sigma, which bounds
+  // the unseen cells' assumed heights too) can it be blocked.
+  for (double z = first_below(0.0, c.terrain_top_m); z < c.depth_m; z += step) {
+    const Eigen::Vector3d p = camera_W + z * ray_W;
+    double h = 0.0, var = 0.0;
+    if (terrain.height_at(p.x(), p.y(), &h, &var)) {
+      // Known terrain: blocked with evidence, more than the margin + 3 sigma below it.
+      if (p.z() < h - c.margin_m - 3.0 * std::sqrt(var)) return true;
+    } else if (z < c.near_m && terrain.unseen_height_at(p.x(), p.y(), &h) && p.z() < h) {
+      // Unseen terrain next to seen terrain, in the near field: the pixel may see its
+      // unseen continuation, which it cannot match.
+      return true;
+    }
+  }
+  return false;
+}
 
 PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorConfig& sensor,
                                      const StereoGeometry& geometry, const Eigen::Matrix3d& R1,
@@ -27,6 +59,31 @@ PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorCon
   T_B_Cr_ = rectified_camera_in_body(T_B_C, R1);
   const auto& r = stereo.roi_px;
   if (r[2] > 0 && r[3] > 0) roi_ &= cv::Rect(r[0], r[1], r[2], r[3]);
+  default_near_m_ = near_depth_for(stereo.min_disparity + stereo.num_disparities);
+}
+
+double PointCloudBuilder::near_depth_for(int search_end_px) const {
+  return search_end_px > 0 ? geometry_.focal_px * geometry_.baseline_m / search_end_px : 0.0;
+}
+
+void PointCloudBuilder::set_search_end_by_row(const std::vector<int>& end_px) {
+  near_by_row_.resize(end_px.size());
+  for (std::size_t v = 0; v < end_px.size(); ++v) near_by_row_[v] = near_depth_for(end_px[v]);
+}
+
+void PointCloudBuilder::prepare_terrain(KnownTerrain& terrain, const Pose3d& T_W_B) const {
+  double reach = occlusion_depth_m(-1);
+  for (std::size_t v = 0; v < near_by_row_.size(); ++v)
+    reach = std::max(reach, occlusion_depth_m(static_cast<int>(v)));
+  // Farthest horizontal reach of a ray: the depth x the longest ray per metre of depth
+  // (a corner of the region that gives points).
+  double ray_len = 1.0;
+  for (double u : {double(roi_.x), double(roi_.x + roi_.width)})
+    for (double v : {double(roi_.y), double(roi_.y + roi_.height)})
+      ray_len = std::max(ray_len, std::hypot((u - geometry_.cx_px) / geometry_.focal_px,
+                                             (v - geometry_.cy_px) / geometry_.focal_px, 1.0));
+  const Eigen::Vector3d camera_W = rectified_camera_pose(T_W_B).translation();
+  terrain.prepare_near_field(camera_W.x(), camera_W.y(), reach * ray_len, stereo_.occlusion_fill_m, 3.0);
 }
 
 Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
@@ -35,18 +92,24 @@ Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
 
 std::size_t PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
                                      const Pose3d& T_W_B, PointCloud& cloud) const {
-  return build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, nullptr);
+  return build_impl(disparity_x16, invalid_below_x16, T_W_B, nullptr, cloud, nullptr).below_ground;
 }
 
 std::size_t PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
                                      const Pose3d& T_W_B, PointCloud& cloud,
                                      std::vector<cv::Point>& pixels) const {
-  return build_impl(disparity_x16, invalid_below_x16, T_W_B, cloud, &pixels);
+  return build_impl(disparity_x16, invalid_below_x16, T_W_B, nullptr, cloud, &pixels).below_ground;
 }
 
-std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
-                                          const Pose3d& T_W_B, PointCloud& cloud,
-                                          std::vector<cv::Point>* pixels) const {
+PointDrops PointCloudBuilder::build(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                    const Pose3d& T_W_B, const KnownTerrain& terrain,
+                                    PointCloud& cloud, std::vector<cv::Point>* pixels) const {
+  return build_impl(disparity_x16, invalid_below_x16, T_W_B, &terrain, cloud, pixels);
+}
+
+PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                         const Pose3d& T_W_B, const KnownTerrain* terrain,
+                                         PointCloud& cloud, std::vector<cv::Point>* pixels) const {
   cloud.clear();
   if (pixels) pixels->clear();
   const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
@@ -73,7 +136,17 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
   const bool check_depression = check_ground && stereo_.max_depression_slope_deg < 90.0;
   const double tolerance_z = -stereo_.below_ground_tolerance_m - T_B_Cr_.translation().z();
   const double tan_wall = std::tan(stereo_.max_depression_slope_deg * M_PI / 180.0);
-  std::size_t below_ground = 0;
+  PointDrops drops;
+  // Occlusion by known terrain: rays are sampled every finest terrain cell out to the
+  // row's reach. Rays whose lowest point on that stretch stays above the highest terrain
+  // around the camera (bounded once per call) cannot pass below it: no sampling.
+  const bool check_occlusion = terrain != nullptr && terrain->prepared() &&
+                               stereo_.occlusion_reach > 0;
+  const double terrain_top = check_occlusion ? terrain->max_top() : 0.0;
+  const double sample_m = check_occlusion ? terrain->finest_resolution_m() : 0.0;
+  const double occlusion_margin = stereo_.occlusion_margin_m;
+  // A ray whose lowest point on its checked stretch lies above this is not sampled.
+  const double occlusion_level = terrain_top;
   // 64-bit counters: `u += step` in int overflows (UB, a crash) for a stride near INT_MAX
   // when the roi starts at x > 0; config validation bounds the stride too.
   const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
@@ -81,6 +154,8 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
   for (std::int64_t vv = roi.y; vv < v_end; vv += step) {
     const int v = static_cast<int>(vv);
     const int16_t* row = disparity_x16.ptr<int16_t>(v);
+    const double reach_row = occlusion_depth_m(v);
+    const double near_row = near_depth_m(v);
     for (std::int64_t uu = roi.x; uu < u_end; uu += step) {
       const int u = static_cast<int>(uu);
       const int d16 = row[u];
@@ -91,16 +166,28 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
       const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d);
       const double drop = up_B.dot(p_C);  // camera -> point, along body z
       if (check_ground && drop < ground_z) {
-        ++below_ground;
+        ++drops.below_ground;
         continue;
       }
       if (check_depression && drop < tolerance_z &&
           drop * drop > tan_wall * tan_wall * (p_C.squaredNorm() - drop * drop)) {
-        ++below_ground;
+        ++drops.below_ground;
         continue;
       }
+      const Eigen::Vector3d ray_W = R * p_C;  // camera -> point in W
+      if (check_occlusion) {
+        // Cheap test first: the stretch checked ends nearer than the row's reach; its
+        // lowest point (start or end) above the terrain's top cannot be below terrain.
+        const double f = std::min(1.0, reach_row / p_C.z());
+        if (t.z() + std::min(0.0, ray_W.z()) * f < occlusion_level &&
+            ray_blocked(*terrain, t, ray_W / p_C.z(),
+                        RayCheck{near_row, f * p_C.z(), occlusion_margin, sample_m, terrain_top})) {
+          ++drops.occluded;
+          continue;
+        }
+      }
       Measurement m{};
-      m.p_W = (R * p_C + t).cast<float>();
+      m.p_W = (ray_W + t).cast<float>();
       if (model_ == SensorModel::axis) {
         // diag(a, a, b) rotated into W is a I + (b - a) c c^T, c = R's third column (the
         // optical axis in W): no matrix products per point.
@@ -128,7 +215,7 @@ std::size_t PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inva
       if (pixels) pixels->emplace_back(u, v);
     }
   }
-  return below_ground;
+  return drops;
 }
 
 }  // namespace hazmap

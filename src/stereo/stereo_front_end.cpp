@@ -25,10 +25,18 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
       support_(stereo.support_rows, stereo.support_tolerance, stereo.support_margin_px),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),
-      keep_pixels_(keep_pixels) {}
+      keep_pixels_(keep_pixels) {
+  builder_.set_search_end_by_row(matcher_.search_end_by_row(rectifier_.image_size().height));
+}
 
 StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
                                     const Pose3d& T_W_B) {
+  KnownTerrain none;
+  return process(left, right, T_W_B, none);
+}
+
+StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
+                                    const Pose3d& T_W_B, KnownTerrain& terrain) {
   StereoTimes times;
   auto t = Clock::now();
   input_bits_ = grey_.convert(left, right, grey_left_, grey_right_);
@@ -44,9 +52,11 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();
-  below_ground_ = keep_pixels_
-                      ? builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_)
-                      : builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  if (!terrain.empty()) builder_.prepare_terrain(terrain, T_W_B);
+  const PointDrops drops = builder_.build(disparity_, matcher_.invalid_below(), T_W_B, terrain,
+                                         cloud_, keep_pixels_ ? &pixels_ : nullptr);
+  below_ground_ = drops.below_ground;
+  occluded_ = drops.occluded;
   times.points_ms = ms_since(t);
   return times;
 }
