@@ -63,23 +63,36 @@ bool KnownTerrain::height_at(double x_m, double y_m, double* height_m, double* v
   return true;
 }
 
-void KnownTerrain::prepare_near_field(double x_m, double y_m, double radius_m, double fill_m,
-                                      double k_sigma) {
+void KnownTerrain::prepare_near_field(double x0_m, double y0_m, double x1_m, double y1_m,
+                                      double fill_m, double k_sigma) {
   fill_.rows = fill_.cols = 0;
-  max_top_ = -std::numeric_limits<double>::infinity();
-  if (layers_.empty() || !(radius_m >= 0.0) || !std::isfinite(x_m) || !std::isfinite(y_m)) return;
+  max_top_ = max_unseen_ = -std::numeric_limits<double>::infinity();
+  if (layers_.empty() || !std::isfinite(x0_m) || !std::isfinite(y0_m) || !std::isfinite(x1_m) ||
+      !std::isfinite(y1_m))
+    return;
   const double r = finest_resolution_m();
-  const long half = static_cast<long>(std::ceil(radius_m / r)) + 1;
-  const int n = static_cast<int>(std::min(2 * half + 1, 4097L));  // a config cannot blow it up
-  const double i0 = std::floor(x_m / r) - static_cast<double>(n / 2);
-  const double j0 = std::floor(y_m / r) - static_cast<double>(n / 2);
+  // Cells with borders at multiples of r, one beyond the region on every side; a config
+  // cannot blow the raster up (at most kMaxCells a side, centred on the region).
+  constexpr double kMaxCells = 4096;
+  double i0 = std::floor(std::min(x0_m, x1_m) / r) - 1, i1 = std::floor(std::max(x0_m, x1_m) / r) + 2;
+  double j0 = std::floor(std::min(y0_m, y1_m) / r) - 1, j1 = std::floor(std::max(y0_m, y1_m) / r) + 2;
+  if (i1 - i0 > kMaxCells) i0 = std::floor(0.5 * (i0 + i1 - kMaxCells)), i1 = i0 + kMaxCells;
+  if (j1 - j0 > kMaxCells) j0 = std::floor(0.5 * (j0 + j1 - kMaxCells)), j1 = j0 + kMaxCells;
+  const int cols = static_cast<int>(i1 - i0), rows = static_cast<int>(j1 - j0);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float none = -std::numeric_limits<float>::infinity();
-  fill_.reset(n, n, r, (i0 + 0.5 * n) * r, (j0 + 0.5 * n) * r, nan);
-  known_.assign(static_cast<std::size_t>(n) * n, none);
+  fill_.reset(rows, cols, r, 0.5 * (i0 + i1) * r, 0.5 * (j0 + j1) * r, nan);
+  known_.assign(static_cast<std::size_t>(rows) * cols, none);
+  block_rows_ = (rows + kBlockCells - 1) / kBlockCells;
+  block_cols_ = (cols + kBlockCells - 1) / kBlockCells;
+  block_top_.assign(static_cast<std::size_t>(block_rows_) * block_cols_, none);
+  block_unseen_.assign(block_top_.size(), none);
+  const auto block = [&](int row, int col) {
+    return static_cast<std::size_t>(row / kBlockCells) * block_cols_ + col / kBlockCells;
+  };
   bool any_unknown = false;
-  for (int row = 0; row < n; ++row)
-    for (int col = 0; col < n; ++col) {
+  for (int row = 0; row < rows; ++row)
+    for (int col = 0; col < cols; ++col) {
       int lr = 0, lc = 0;
       const Layer* l = find(fill_.x_of_col(col), fill_.y_of_row(row), &lr, &lc);
       if (!l) {
@@ -92,34 +105,64 @@ void KnownTerrain::prepare_near_field(double x_m, double y_m, double radius_m, d
         if (std::isfinite(sx) && std::isfinite(sy))
           top += 0.5 * l->height->resolution_m * (std::abs(sx) + std::abs(sy));
       }
-      known_[static_cast<std::size_t>(row) * n + col] = static_cast<float>(top);
+      known_[static_cast<std::size_t>(row) * cols + col] = static_cast<float>(top);
       double sigma_top = top;
       if (k_sigma > 0.0 && l->variance) {
         const double var = l->variance->at(lr, lc);
         if (std::isfinite(var) && var > 0.0) sigma_top += k_sigma * std::sqrt(var);
       }
       max_top_ = std::max(max_top_, sigma_top);
+      float& b = block_top_[block(row, col)];
+      b = std::max(b, static_cast<float>(sigma_top));
     }
   // Unseen cells: the highest known top within `fill` cells in x and y (a separable max),
   // fill_m rounded up to whole cells.
-  const int fill = static_cast<int>(std::min(std::ceil(fill_m / r - 1e-9), double(n)));
+  const int fill = static_cast<int>(std::min(std::ceil(fill_m / r - 1e-9), kMaxCells));
   if (!any_unknown || fill <= 0) return;
   row_max_.assign(known_.size(), none);
-  for (int row = 0; row < n; ++row)
-    for (int col = 0; col < n; ++col) {
+  for (int row = 0; row < rows; ++row)
+    for (int col = 0; col < cols; ++col) {
       float m = none;
-      for (int c = std::max(0, col - fill); c <= std::min(n - 1, col + fill); ++c)
-        m = std::max(m, known_[static_cast<std::size_t>(row) * n + c]);
-      row_max_[static_cast<std::size_t>(row) * n + col] = m;
+      for (int c = std::max(0, col - fill); c <= std::min(cols - 1, col + fill); ++c)
+        m = std::max(m, known_[static_cast<std::size_t>(row) * cols + c]);
+      row_max_[static_cast<std::size_t>(row) * cols + col] = m;
     }
-  for (int row = 0; row < n; ++row)
-    for (int col = 0; col < n; ++col) {
-      if (known_[static_cast<std::size_t>(row) * n + col] > none) continue;  // seen
+  for (int row = 0; row < rows; ++row)
+    for (int col = 0; col < cols; ++col) {
+      if (known_[static_cast<std::size_t>(row) * cols + col] > none) continue;  // seen
       float m = none;
-      for (int rr = std::max(0, row - fill); rr <= std::min(n - 1, row + fill); ++rr)
-        m = std::max(m, row_max_[static_cast<std::size_t>(rr) * n + col]);
-      if (m > none) fill_.at(row, col) = m;
+      for (int rr = std::max(0, row - fill); rr <= std::min(rows - 1, row + fill); ++rr)
+        m = std::max(m, row_max_[static_cast<std::size_t>(rr) * cols + col]);
+      if (m > none) {
+        fill_.at(row, col) = m;
+        max_unseen_ = std::max(max_unseen_, static_cast<double>(m));
+        float& b = block_unseen_[block(row, col)];
+        b = std::max(b, m);
+      }
     }
+}
+
+KnownTerrain::Levels KnownTerrain::max_levels_in(double x0_m, double y0_m, double x1_m,
+                                                double y1_m) const {
+  Levels all{max_top_, max_unseen_};
+  if (fill_.rows == 0) return all;
+  const double r = fill_.resolution_m;
+  const double left = fill_.center_x_m - 0.5 * fill_.cols * r;
+  const double top = fill_.center_y_m + 0.5 * fill_.rows * r;
+  const double c0 = std::floor((std::min(x0_m, x1_m) - left) / r);
+  const double c1 = std::floor((std::max(x0_m, x1_m) - left) / r);
+  const double r0 = std::floor((top - std::max(y0_m, y1_m)) / r);
+  const double r1 = std::floor((top - std::min(y0_m, y1_m)) / r);
+  if (!(c0 >= 0 && r0 >= 0 && c1 < fill_.cols && r1 < fill_.rows)) return all;
+  Levels out{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (int br = static_cast<int>(r0) / kBlockCells; br <= static_cast<int>(r1) / kBlockCells; ++br)
+    for (int bc = static_cast<int>(c0) / kBlockCells; bc <= static_cast<int>(c1) / kBlockCells;
+         ++bc) {
+      const std::size_t k = static_cast<std::size_t>(br) * block_cols_ + bc;
+      out.top_m = std::max(out.top_m, static_cast<double>(block_top_[k]));
+      out.unseen_m = std::max(out.unseen_m, static_cast<double>(block_unseen_[k]));
+    }
+  return out;
 }
 
 bool KnownTerrain::unseen_height_at(double x_m, double y_m, double* height_m) const {

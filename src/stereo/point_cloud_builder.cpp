@@ -13,19 +13,28 @@ bool ray_blocked(const KnownTerrain& terrain, const Eigen::Vector3d& camera_W,
                  const Eigen::Vector3d& ray_W, const RayCheck& c) {
   if (!(c.depth_m > 0.0) || !(c.sample_m > 0.0)) return false;
   const double step = c.sample_m / ray_W.norm();  // one sample per cell length along the ray
-  // The first sample at or after depth z_lo where the ray can lie below `level` (a straight
-  // line: a descending ray from where it crosses the level on, another one nowhere unless
-  // it starts below); infinity when none.
+  // The first depth at or after z_lo where the ray can lie below `level` (a straight line:
+  // a descending ray from where it crosses the level on, another one nowhere unless it
+  // starts below); infinity when none.
   const auto first_below = [&](double z_lo, double level) {
-    const double z0 = ray_W.z() < 0.0 ? std::max(z_lo, (camera_W.z() - level) / -ray_W.z())
-                      : camera_W.z() + ray_W.z() * z_lo < level
-                          ? z_lo
-                          : std::numeric_limits<double>::infinity();
-    return step * std::max(1.0, std::ceil(z0 / step));
+    if (ray_W.z() < 0.0) return std::max(z_lo, (camera_W.z() - level) / -ray_W.z());
+    return camera_W.z() + ray_W.z() * z_lo < level ? z_lo
+                                                   : std::numeric_limits<double>::infinity();
   };
-  // Only where the ray lies below the highest top (known height + 3 sigma, which bounds
-  // the unseen cells' assumed heights too) can it be blocked.
-  for (double z = first_below(0.0, c.terrain_top_m); z < c.depth_m; z += step) {
+  const double near_end = std::min(c.near_m, c.depth_m);
+  const auto first_sample = [&](double known_level, double unseen_level) {
+    const double z_known = first_below(0.0, known_level);
+    const double z_unseen = first_below(0.0, unseen_level);
+    return z_unseen < near_end ? std::min(z_known, z_unseen) : z_known;
+  };
+  // From the whole region's levels, then the levels of the blocks under the rest of the
+  // ray (a box around it): most rays near a rock pass over ground.
+  double z0 = first_sample(c.known_level_m, c.unseen_level_m);
+  if (z0 >= c.depth_m) return false;
+  const Eigen::Vector3d a = camera_W + z0 * ray_W, b = camera_W + c.depth_m * ray_W;
+  const KnownTerrain::Levels local = terrain.max_levels_in(a.x(), a.y(), b.x(), b.y());
+  z0 = std::max(z0, first_sample(local.top_m - c.margin_m, local.unseen_m));
+  for (double z = step * std::max(1.0, std::ceil(z0 / step)); z < c.depth_m; z += step) {
     const Eigen::Vector3d p = camera_W + z * ray_W;
     double h = 0.0, var = 0.0;
     if (terrain.height_at(p.x(), p.y(), &h, &var)) {
@@ -75,15 +84,22 @@ void PointCloudBuilder::prepare_terrain(KnownTerrain& terrain, const Pose3d& T_W
   double reach = occlusion_depth_m(-1);
   for (std::size_t v = 0; v < near_by_row_.size(); ++v)
     reach = std::max(reach, occlusion_depth_m(static_cast<int>(v)));
-  // Farthest horizontal reach of a ray: the depth x the longest ray per metre of depth
-  // (a corner of the region that gives points).
-  double ray_len = 1.0;
+  // Every checked stretch lies in the view frustum cut at that depth: the hull of the
+  // camera centre and the corners of the region that gives points, at `reach`.
+  const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
+  const Eigen::Vector3d camera_W = T_W_Cr.translation();
+  double x0 = camera_W.x(), x1 = x0, y0 = camera_W.y(), y1 = y0;
   for (double u : {double(roi_.x), double(roi_.x + roi_.width)})
-    for (double v : {double(roi_.y), double(roi_.y + roi_.height)})
-      ray_len = std::max(ray_len, std::hypot((u - geometry_.cx_px) / geometry_.focal_px,
-                                             (v - geometry_.cy_px) / geometry_.focal_px, 1.0));
-  const Eigen::Vector3d camera_W = rectified_camera_pose(T_W_B).translation();
-  terrain.prepare_near_field(camera_W.x(), camera_W.y(), reach * ray_len, stereo_.occlusion_fill_m, 3.0);
+    for (double v : {double(roi_.y), double(roi_.y + roi_.height)}) {
+      const Eigen::Vector3d corner_W =
+          T_W_Cr * Eigen::Vector3d((u - geometry_.cx_px) / geometry_.focal_px * reach,
+                                   (v - geometry_.cy_px) / geometry_.focal_px * reach, reach);
+      x0 = std::min(x0, corner_W.x());
+      x1 = std::max(x1, corner_W.x());
+      y0 = std::min(y0, corner_W.y());
+      y1 = std::max(y1, corner_W.y());
+    }
+  terrain.prepare_near_field(x0, y0, x1, y1, stereo_.occlusion_fill_m, 3.0);
 }
 
 Pose3d PointCloudBuilder::rectified_camera_pose(const Pose3d& T_W_B) const {
@@ -142,11 +158,14 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
   // around the camera (bounded once per call) cannot pass below it: no sampling.
   const bool check_occlusion = terrain != nullptr && terrain->prepared() &&
                                stereo_.occlusion_reach > 0;
-  const double terrain_top = check_occlusion ? terrain->max_top() : 0.0;
+  const double terrain_top =
+      check_occlusion ? terrain->max_top() : -std::numeric_limits<double>::infinity();
   const double sample_m = check_occlusion ? terrain->finest_resolution_m() : 0.0;
   const double occlusion_margin = stereo_.occlusion_margin_m;
-  // A ray whose lowest point on its checked stretch lies above this is not sampled.
-  const double occlusion_level = terrain_top;
+  // Levels a ray must get below to be blocked: known terrain less the margin, and in
+  // the near field the highest assumed height of an unseen cell.
+  const double known_level = terrain_top - occlusion_margin;
+  const double unseen_level = check_occlusion ? terrain->max_unseen_height() : 0.0;
   // 64-bit counters: `u += step` in int overflows (UB, a crash) for a stride near INT_MAX
   // when the roi starts at x > 0; config validation bounds the stride too.
   const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
@@ -176,12 +195,18 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
       }
       const Eigen::Vector3d ray_W = R * p_C;  // camera -> point in W
       if (check_occlusion) {
-        // Cheap test first: the stretch checked ends nearer than the row's reach; its
-        // lowest point (start or end) above the terrain's top cannot be below terrain.
-        const double f = std::min(1.0, reach_row / p_C.z());
-        if (t.z() + std::min(0.0, ray_W.z()) * f < occlusion_level &&
-            ray_blocked(*terrain, t, ray_W / p_C.z(),
-                        RayCheck{near_row, f * p_C.z(), occlusion_margin, sample_m, terrain_top})) {
+        // The stretch checked ends at the row's reach or at the point. Cheap test first:
+        // a stretch whose lowest point (its start or end) stays above both levels cannot
+        // be blocked.
+        const double inv_z = 1.0 / p_C.z();
+        const double down = std::min(0.0, ray_W.z() * inv_z);
+        const double far = std::min(reach_row, p_C.z());
+        if ((t.z() + down * far < known_level ||
+             t.z() + down * std::min(far, near_row) < unseen_level) &&
+            ray_blocked(*terrain, t, ray_W * inv_z,
+                        RayCheck{near_row,
+                                 far,
+                                 occlusion_margin, sample_m, known_level, unseen_level})) {
           ++drops.occluded;
           continue;
         }

@@ -40,15 +40,17 @@ namespace hazmap {
 ///    below the assumed height of an unseen cell next to seen ones
 ///    (KnownTerrain::unseen_height_at): the pixel may see the unseen continuation of a
 ///    surface, which it cannot match.
-/// Terrain nobody knows, away from what is known, blocks nothing. `terrain_top_m` must
-/// bound height + 3 sigma and the assumed heights over the samples
-/// (KnownTerrain::max_top): stretches of the ray above it are not sampled.
+/// Terrain nobody knows, away from what is known, blocks nothing. `known_level_m` must
+/// bound height - margin - 3 sigma over the samples (KnownTerrain::max_top - margin),
+/// `unseen_level_m` the assumed heights (KnownTerrain::max_unseen_height): stretches of
+/// the ray above them are not sampled.
 struct RayCheck {
   double near_m = 0.0;
   double depth_m = 0.0;
   double margin_m = 0.0;
   double sample_m = 0.0;
-  double terrain_top_m = 0.0;
+  double known_level_m = 0.0;
+  double unseen_level_m = 0.0;
 };
 bool ray_blocked(const KnownTerrain& terrain, const Eigen::Vector3d& camera_W,
                  const Eigen::Vector3d& ray_W, const RayCheck& check);
