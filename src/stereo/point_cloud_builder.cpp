@@ -153,9 +153,9 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
   const double tolerance_z = -stereo_.below_ground_tolerance_m - T_B_Cr_.translation().z();
   const double tan_wall = std::tan(stereo_.max_depression_slope_deg * M_PI / 180.0);
   PointDrops drops;
-  // Occlusion by known terrain: rays are sampled every finest terrain cell out to the
-  // row's reach. Rays whose lowest point on that stretch stays above the highest terrain
-  // around the camera (bounded once per call) cannot pass below it: no sampling.
+  // Occlusion by known terrain (ray_blocked): rays are sampled every finest terrain cell
+  // out to the row's reach. A ray whose lowest point on that stretch stays above the
+  // levels of the prepared region (bounded once per call) is not sampled.
   const bool check_occlusion = terrain != nullptr && terrain->prepared() &&
                                stereo_.occlusion_reach > 0;
   const double terrain_top =
@@ -204,9 +204,8 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
         if ((t.z() + down * far < known_level ||
              t.z() + down * std::min(far, near_row) < unseen_level) &&
             ray_blocked(*terrain, t, ray_W * inv_z,
-                        RayCheck{near_row,
-                                 far,
-                                 occlusion_margin, sample_m, known_level, unseen_level})) {
+                        RayCheck{near_row, far, occlusion_margin, sample_m, known_level,
+                                 unseen_level})) {
           ++drops.occluded;
           continue;
         }

@@ -3,8 +3,10 @@
 // (the stereo front end's occlusion check, point_cloud_builder.hpp): per layer, finest
 // first, its height grid at cell centres (CCM: with the cell plane's slopes) and its
 // height variance, as a frame's export left them (LayerGrids). A view: the grids are
-// owned elsewhere and must outlive the queries; nothing is copied.
-// Thread safety: const queries may run concurrently.
+// owned elsewhere and must outlive the queries; nothing is copied. prepare_near_field
+// derives, for the region a camera's checked rays cover, the assumed heights of unseen
+// cells and per-block bounds, in buffers it keeps and reuses.
+// Thread safety: const queries may run concurrently; prepare_near_field and clear may not.
 
 #include <limits>
 #include <vector>

@@ -10,12 +10,14 @@
 // a point is a mismatch; these are counted), nor more than below_ground_tolerance below
 // it along a ray descending steeper than max_depression_slope_deg (counted with them).
 // Given the terrain the map already knows, a point is also dropped (counted apart) when
-// its ray passes through that terrain on the way to it (stereo.occlusion_reach, _margin):
-// the pixel sees the terrain, so its disparity belongs to something else. Measured on a
-// drive over a 10 cm rock, 15 cm cameras, 0.4 scale, 160 disparities (reach 8.4 cm): the
-// rock top 7 cm from the camera (true disparity 187 px) matched at ~100 px, points 13 cm
-// below the rock top, beyond it along steep rays, which the depth and steep-ray checks
-// let through (at most 5 cm below the wheel plane).
+// its ray passes through that terrain on the way to it, or, nearer than the disparity
+// search reaches, below the unseen continuation of it (stereo.occlusion_reach, _margin,
+// _fill; ray_blocked): the pixel sees that terrain, so its disparity belongs to something
+// else. Measured on a drive over a 10 cm rock, 15 cm cameras, 0.4 scale, 160 disparities
+// (nothing nearer than 8.4 cm can be matched): the rock top 7 cm from the camera (true
+// disparity 187 px) matched at ~100 px, points 13 cm below the rock top, beyond it along
+// steep rays, which the depth and steep-ray checks let through (at most 5 cm below the
+// wheel plane).
 // Thread safety: build() is const and may run concurrently on different clouds.
 
 #include <vector>
@@ -115,9 +117,9 @@ class PointCloudBuilder {
   /// terrain: stereo.occlusion_reach x its near-field depth.
   double occlusion_depth_m(int v) const { return stereo_.occlusion_reach * near_depth_m(v); }
 
-  /// Prepares `terrain`'s tops (KnownTerrain::prepare_tops) for a pair taken at T_W_B:
-  /// around the rectified camera, as far as any ray is checked, with
-  /// stereo.occlusion_fill and 3 sigma. Call before build() with that terrain.
+  /// Prepares `terrain` (KnownTerrain::prepare_near_field) for a pair taken at T_W_B: over
+  /// the view frustum cut at the deepest occlusion_depth_m (every stretch a ray is checked
+  /// on), with stereo.occlusion_fill and 3 sigma. Call before build() with that terrain.
   void prepare_terrain(KnownTerrain& terrain, const Pose3d& T_W_B) const;
 
   /// Pose of the rectified left camera in the world: T_W_B * T_B_C * R1^T.
