@@ -18,4 +18,4 @@ done
 last="$(ls -d "$out"/frames/*/ | tail -n 1)"
 echo
 echo "Look at the last frame's hazard map: ${last}L0_hazard.png"
-echo "(grey unknown, green traversable, red hazard, white cross = robot)"
+echo "(grey unknown, green traversable, red hazard; the white ring is the robot, its tick the heading)"
