@@ -1,5 +1,7 @@
 #include "hazmap/stereo/stereo_front_end.hpp"
 
+#include "hazmap/core/error.hpp"
+
 #include <chrono>
 
 #include "hazmap/stereo/ground_band.hpp"
@@ -44,11 +46,33 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();
-  below_ground_ = keep_pixels_
-                      ? builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_, pixels_)
-                      : builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  last_T_W_B_ = T_W_B;
+  if (map_points_mode_) {
+    below_ground_ = builder_.build_map_points(disparity_, matcher_.invalid_below(), T_W_B,
+                                              weighting_, map_points_);
+    cloud_stale_ = true;
+  } else {
+    below_ground_ = keep_pixels_ ? builder_.build(disparity_, matcher_.invalid_below(), T_W_B,
+                                                  cloud_, pixels_)
+                                 : builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+  }
   times.points_ms = ms_since(t);
   return times;
+}
+
+void StereoFrontEnd::set_map_points_output(CcmWeighting weighting) {
+  if (!builder_.supports_map_points())
+    throw Error("stereo front end: map-points output needs sensor.model axis");
+  map_points_mode_ = true;
+  weighting_ = weighting;
+}
+
+const PointCloud& StereoFrontEnd::cloud() const {
+  if (cloud_stale_) {
+    builder_.build(disparity_, matcher_.invalid_below(), last_T_W_B_, cloud_);
+    cloud_stale_ = false;
+  }
+  return cloud_;
 }
 
 }  // namespace hazmap

@@ -213,14 +213,26 @@ class PipelineVsCli(unittest.TestCase):
             assert_same_grid(self, planner.hazard_distance, os.path.join(out, "hazard_distance.jdem"))
 
             # The same points through a LayerStack give the same map: the stack is the
-            # pipeline's map half.
+            # pipeline's map half. The pipeline computes its points in float straight
+            # from the disparities (axis model); points() gives them with double
+            # covariances, so the grids agree to float rounding (positions within 2 um,
+            # variances within 1e-5 relative: tests/stereo/map_points_path_test.cpp).
             points, covariances = pipeline.points()
             self.assertEqual(points.shape, (report["points"], 3))
             stack.insert(points, covariances, robot_xy=frame["T_W_B"][:2, 3])
+            # A gate or a class flips where a statistic sits on its threshold: at most
+            # 0.2 % of a grid's cells may differ by more than that rounding.
             for mine, theirs in zip(stack.layers, pipeline.layers):
                 for name, grid in theirs.grids().items():
-                    np.testing.assert_array_equal(mine.grids()[name], grid, err_msg=name)
-            np.testing.assert_array_equal(stack.planner.fused, planner.fused)
+                    a, b = mine.grids()[name], grid
+                    if name == "hazard" or grid.dtype != np.float32:
+                        differ = np.count_nonzero(a != b)
+                    else:
+                        same = np.isclose(a, b, rtol=1e-4, atol=1e-6, equal_nan=True)
+                        differ = np.count_nonzero(~same)
+                    self.assertLessEqual(differ, max(1, grid.size // 500), name)
+            differ = np.count_nonzero(stack.planner.fused != planner.fused)
+            self.assertLessEqual(differ, max(1, planner.fused.size // 500))
 
 
 class BadInput(unittest.TestCase):

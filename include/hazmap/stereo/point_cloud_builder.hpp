@@ -17,6 +17,7 @@
 
 #include "hazmap/core/types.hpp"
 #include "hazmap/io/config.hpp"
+#include "hazmap/map/map_points.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
 
@@ -48,6 +49,17 @@ class PointCloudBuilder {
   /// As above, and `pixels[i]` is the rectified left pixel (u, v) of cloud[i].
   std::size_t build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
                     PointCloud& cloud, std::vector<cv::Point>& pixels) const;
+
+  /// The points stage straight into the map's input (issue 20): the same pixels, gates and
+  /// below-ground count as build(), but only the fields the map reads (position, vertical
+  /// and major lateral variance, the CCM weight), in float, with every per-row term
+  /// hoisted out of the pixel loop. The axis model only (supports_map_points()): its
+  /// covariance a I + (b - a) c c^T has closed forms for all of them (c the optical axis
+  /// in W: var_z = a + (b - a) c_z^2, lateral = a + max(b - a, 0)(c_x^2 + c_y^2), trace
+  /// 2a + b, det a^2 b). Throws Error for the ray model. Returns the below-ground count.
+  std::size_t build_map_points(const cv::Mat& disparity_x16, int invalid_below_x16,
+                               const Pose3d& T_W_B, CcmWeighting weighting, MapPoints& out) const;
+  bool supports_map_points() const { return model_ == SensorModel::axis; }
 
   /// Pose of the rectified left camera in the world: T_W_B * T_B_C * R1^T.
   Pose3d rectified_camera_pose(const Pose3d& T_W_B) const;
