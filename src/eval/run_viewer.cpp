@@ -271,8 +271,12 @@ const char* const kAreaKinds[] = {"hazard", "traversable", "unknown"};
 FrameSeries read_frame_series(const YAML::Node& summary, const fs::path& file,
                               const std::vector<MapSpec>& maps) {
   FrameSeries s;
+  for (const char* stage : kStages) s.ms[stage];  // every column present, if empty
+  for (const MapSpec& m : maps)
+    for (const char* kind : kAreaKinds) s.areas[m.id][kind];
   const YAML::Node frames = summary["frames"];
-  if (!frames || !frames.IsSequence()) throw Error(file.string() + ": no \"frames\" list");
+  if (!frames) return s;  // nothing per frame to plot: the maps are still worth a look
+  if (!frames.IsSequence()) throw Error(file.string() + ": \"frames\" is not a list");
   const auto number = [&](const YAML::Node& n, const char* key) {
     return n[key] ? n[key].as<double>() : NAN;
   };
