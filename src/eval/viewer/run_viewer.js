@@ -713,8 +713,10 @@
       viewChanged(p);
     }, { passive: false });
     c.addEventListener('pointerdown', function (e) {
-      drag = { x: e.clientX, y: e.clientY, moved: false };
-      c.setPointerCapture(e.pointerId);
+      drag = { x: e.clientX, y: e.clientY };
+      try {
+        c.setPointerCapture(e.pointerId);  // keeps the drag when the pointer leaves the map
+      } catch (err) { /* a synthetic event's pointer cannot be captured */ }
     });
     c.addEventListener('pointermove', function (e) {
       var r = c.getBoundingClientRect();
