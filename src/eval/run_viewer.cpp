@@ -496,18 +496,25 @@ void number_array(JsonWriter& j, const std::vector<double>& v) {
   j.end_array();
 }
 
-}  // namespace
+/// Everything the page shows, read from the run folder and checked.
+struct RunContent {
+  std::string title;
+  std::string subtitle;
+  std::string settings_yaml;
+  std::vector<MapSpec> maps;
+  std::vector<PackedFrame> frames;
+  /// Per map: the widest of the frames' robust ranges (see widen()).
+  std::vector<std::optional<std::pair<double, double>>> run_height, run_sigma;
+  FrameSeries series;
+  std::vector<Pose2> poses;
+  std::string pose_source;
+  EvalData eval;
+  std::vector<std::string> log_problems;
+  size_t grid_bytes = 0;  ///< values before packing
+};
 
-std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
-  const fs::path summary_file = run_dir / "summary.json";
-  const Config config = read_run_config(run_dir);  // names summary.json when missing or bad
-  const YAML::Node summary = load_yaml(summary_file);
-  const std::vector<MapSpec> all_maps = map_specs(config);
-  if (all_maps.empty()) throw Error(summary_file.string() + ": settings_yaml has no map layers");
-  const FrameSeries series = read_frame_series(summary, summary_file, all_maps);
-
-  // The written frames: RUN/frames/<name>/, hidden staging folders left out.
-  const fs::path frames_dir = run_dir / "frames";
+/// RUN/frames/<name>/, hidden staging folders left out, sorted.
+std::vector<std::string> frame_folders(const fs::path& frames_dir) {
   if (!fs::is_directory(frames_dir))
     throw Error(frames_dir.string() + ": missing (the run wrote no frame)");
   std::vector<std::string> names;
@@ -517,11 +524,15 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
   }
   std::sort(names.begin(), names.end());
   if (names.empty()) throw Error(frames_dir.string() + ": no frame folders");
+  return names;
+}
 
-  // Optional grids (the footprint map and the CCM slopes are newer than the others; the
-  // clearance too) join the page when every frame has them.
+/// The maps with the files every frame has: optional grids (the footprint map, the CCM
+/// slopes and the clearance are newer than the others) join only then.
+std::vector<MapSpec> maps_present(const std::vector<MapSpec>& all, const fs::path& frames_dir,
+                                  const std::vector<std::string>& names) {
   std::vector<MapSpec> maps;
-  for (MapSpec m : all_maps) {
+  for (MapSpec m : all) {
     std::vector<GridFile> files;
     for (const GridFile& f : m.files)
       if (f.required || std::all_of(names.begin(), names.end(), [&](const std::string& n) {
@@ -534,49 +545,64 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
     m.files = files;
     maps.push_back(m);
   }
+  return maps;
+}
 
-  std::vector<PackedFrame> frames;
-  size_t grid_bytes = 0, text_bytes = 0;
-  for (const std::string& name : names) {
-    frames.push_back(pack_frame(frames_dir / name, name, maps));
-    text_bytes += frames.back().base64.size();
-  }
-  // Raw size, for the report: each frame's arrays end where the last one ends.
-  for (const PackedFrame& f : frames)
-    for (const PackedMap& m : f.maps)
-      for (const auto& [q, a] : m.arrays)
-        grid_bytes += a.count * (a.type == PackedType::float32 ? 4 : 1);
+RunContent read_run(const fs::path& run_dir) {
+  const fs::path summary_file = run_dir / "summary.json";
+  const Config config = read_run_config(run_dir);  // names summary.json when missing or bad
+  if (!config.output.jdem)
+    throw Error(summary_file.string() +
+                ": the run wrote no grids (output.jdem: false); hazmap view needs them");
+  const YAML::Node summary = load_yaml(summary_file);
+  const std::vector<MapSpec> all_maps = map_specs(config);
+  if (all_maps.empty()) throw Error(summary_file.string() + ": settings_yaml has no map layers");
 
-  std::string pose_source;
-  const std::vector<Pose2> poses = frame_poses(series, summary, &pose_source);
-  const EvalData eval = read_evaluation(run_dir / "eval");
-  const std::vector<std::string> problems = log_problems(run_dir / "run.log");
-
-  // Run-wide colour ranges per map.
-  std::vector<std::optional<std::pair<double, double>>> run_height(maps.size()),
-      run_sigma(maps.size());
-  for (const PackedFrame& f : frames)
-    for (size_t m = 0; m < maps.size(); ++m) {
-      widen(run_height[m], f.maps[m].height_range);
-      widen(run_sigma[m], f.maps[m].sigma_range);
+  RunContent c;
+  c.series = read_frame_series(summary, summary_file, all_maps);
+  const fs::path frames_dir = run_dir / "frames";
+  const std::vector<std::string> names = frame_folders(frames_dir);
+  c.maps = maps_present(all_maps, frames_dir, names);
+  for (const std::string& name : names) c.frames.push_back(pack_frame(frames_dir / name, name, c.maps));
+  c.run_height.resize(c.maps.size());
+  c.run_sigma.resize(c.maps.size());
+  for (const PackedFrame& f : c.frames)
+    for (size_t m = 0; m < c.maps.size(); ++m) {
+      widen(c.run_height[m], f.maps[m].height_range);
+      widen(c.run_sigma[m], f.maps[m].sigma_range);
+      for (const auto& [q, a] : f.maps[m].arrays)
+        c.grid_bytes += a.count * (a.type == PackedType::float32 ? 4 : 1);
     }
+  c.poses = frame_poses(c.series, summary, &c.pose_source);
+  c.eval = read_evaluation(run_dir / "eval");
+  c.log_problems = log_problems(run_dir / "run.log");
 
-  const std::string title = "hazmap view: " + run_name(run_dir);
   const auto str = [&](const char* key) {
     return summary[key] && summary[key].IsScalar() ? summary[key].as<std::string>() : std::string();
   };
-  const std::string finished = str("finished") == "true"                 ? "finished"
-                               : !str("stopped_after_frame").empty() ? "stopped after frame " +
-                                                                             str("stopped_after_frame")
-                                                                       : "not finished";
+  const std::string stopped = str("stopped_after_frame");
+  const std::string finished = str("finished") == "true" ? "finished"
+                               : !stopped.empty()        ? "stopped after frame " + stopped
+                                                         : "not finished";
+  c.title = "hazmap view: " + run_name(run_dir);
+  c.subtitle = "run " + fs::absolute(run_dir).lexically_normal().string() + " | sequence " +
+               str("sequence") + " | config " + str("config") + " | " +
+               std::to_string(c.frames.size()) + " written of " +
+               std::to_string(c.series.names.size()) + " processed frames, " + finished +
+               " | hazmap " + str("hazmap_version");
+  c.settings_yaml = str("settings_yaml");
+  return c;
+}
 
-  // The page's data: everything but the grids, which follow as one element per frame.
+/// The page's data as JSON (run_viewer.js reads it): everything but the grids, which
+/// follow as one element per frame.
+std::string data_json(const RunContent& c) {
   JsonWriter j;
   j.begin_object();
-  j.key("title").value(title);
+  j.key("title").value(c.title);
   j.key("maps").begin_array();
-  for (size_t m = 0; m < maps.size(); ++m) {
-    const MapSpec& s = maps[m];
+  for (size_t m = 0; m < c.maps.size(); ++m) {
+    const MapSpec& s = c.maps[m];
     j.begin_object();
     j.key("id").value(s.id);
     j.key("title").value(s.title);
@@ -589,15 +615,16 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
     j.end_array();
     j.key("range_run").begin_object();
     j.key("height");
-    range_value(j, run_height[m]);
+    range_value(j, c.run_height[m]);
     j.key("sigma");
-    range_value(j, run_sigma[m]);
+    range_value(j, c.run_sigma[m]);
     j.end_object();
     j.end_object();
   }
   j.end_array();
+
   j.key("frames").begin_array();
-  for (const PackedFrame& f : frames) {
+  for (const PackedFrame& f : c.frames) {
     j.begin_object();
     j.key("name").value(f.name);
     j.key("maps").begin_array();
@@ -607,7 +634,7 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
       j.key("cols").value(p.cols);
       j.key("resolution_m").value(p.resolution_m);
       j.key("center_m").begin_array().value(p.center_x_m).value(p.center_y_m).end_array();
-      j.key("arrays").begin_object();
+      j.key("arrays").begin_object();  // quantity: [type, byte offset, count]
       for (const auto& [quantity, a] : p.arrays) {
         j.key(quantity).begin_array();
         j.value(a.type == PackedType::float32 ? "f32" : "class");
@@ -627,51 +654,55 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
     j.end_object();
   }
   j.end_array();
+
+  const FrameSeries& s = c.series;
   j.key("processed").begin_object();
   j.key("names");
-  string_array(j, series.names);
+  string_array(j, s.names);
   j.key("points");
-  number_array(j, series.points);
+  number_array(j, s.points);
   j.key("points_below_ground");
-  number_array(j, series.points_below_ground);
+  number_array(j, s.points_below_ground);
   j.key("disparities_unsupported");
-  number_array(j, series.disparities_unsupported);
+  number_array(j, s.disparities_unsupported);
   j.key("ms").begin_object();
   for (const char* stage : kStages) {
     j.key(stage);
-    number_array(j, series.ms.at(stage));
+    number_array(j, s.ms.at(stage));
   }
   j.end_object();
   j.key("areas_m2").begin_object();
-  for (const MapSpec& m : maps) {
+  for (const MapSpec& m : c.maps) {
     j.key(m.id).begin_object();
     for (const char* kind : kAreaKinds) {
       j.key(kind);
-      number_array(j, series.areas.at(m.id).at(kind));
+      number_array(j, s.areas.at(m.id).at(kind));
     }
     j.end_object();
   }
   j.end_object();
   j.end_object();
+
   j.key("poses").begin_object();
-  j.key("source").value(pose_source);
-  std::vector<double> px, py, pyaw;
-  for (const Pose2& p : poses) px.push_back(p.x_m), py.push_back(p.y_m), pyaw.push_back(p.yaw_rad);
+  j.key("source").value(c.pose_source);
+  std::vector<double> x, y, yaw;
+  for (const Pose2& p : c.poses) x.push_back(p.x_m), y.push_back(p.y_m), yaw.push_back(p.yaw_rad);
   j.key("x_m");
-  number_array(j, px);
+  number_array(j, x);
   j.key("y_m");
-  number_array(j, py);
+  number_array(j, y);
   j.key("yaw_rad");
-  number_array(j, pyaw);
+  number_array(j, yaw);
   j.end_object();
-  if (eval.present) {
+
+  if (c.eval.present) {
     j.key("eval").begin_object();
     j.key("frames");
-    string_array(j, eval.frames);
+    string_array(j, c.eval.frames);
     j.key("layers");
-    string_array(j, eval.layers);
-    j.key("per_frame").begin_object();
-    for (const auto& [metric, by_layer] : eval.per_frame) {
+    string_array(j, c.eval.layers);
+    j.key("per_frame").begin_object();  // metric: {layer: per frame}
+    for (const auto& [metric, by_layer] : c.eval.per_frame) {
       j.key(metric).begin_object();
       for (const auto& [layer, v] : by_layer) {
         j.key(layer);
@@ -687,25 +718,18 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
   j.key("sigma").value(colour_map_hex(cv::COLORMAP_INFERNO));
   j.end_object();
   j.end_object();
+  return j.str();
+}
 
-  std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-    << "<title>" << html_escape(title) << "</title>\n<style>" << report_style()
-    << viewer_assets::kStyle << "</style>\n</head>\n<body>\n<h1>" << html_escape(title)
-    << "</h1>\n<p class=\"subtitle\">run " << html_escape(fs::absolute(run_dir).lexically_normal().string())
-    << " | sequence " << html_escape(str("sequence")) << " | config " << html_escape(str("config"))
-    << " | " << frames.size() << " written of " << series.names.size() << " processed frames, "
-    << html_escape(finished) << " | hazmap " << html_escape(str("hazmap_version")) << "</p>\n";
-
-  // Controls; the script wires them.
+/// The controls the script wires (ids and data- attributes are its interface).
+void write_controls(std::ostream& o, const RunContent& c) {
   o << "<div id=\"controls\">\n"
     << "<button id=\"play\" title=\"play / pause (space)\">&#9654; play</button>\n"
     << "<button id=\"prev\" title=\"previous frame (left arrow)\">&larr;</button>"
-    << "<input id=\"frame-slider\" type=\"range\" min=\"0\" max=\"" << frames.size() - 1
-    << "\" value=\"" << frames.size() - 1 << "\" aria-label=\"frame\">"
+    << "<input id=\"frame-slider\" type=\"range\" min=\"0\" max=\"" << c.frames.size() - 1
+    << "\" value=\"" << c.frames.size() - 1 << "\" aria-label=\"frame\">"
     << "<button id=\"next\" title=\"next frame (right arrow)\">&rarr;</button>\n"
-    << "<span id=\"frame-label\">frame " << html_escape(frames.back().name) << "</span>\n"
+    << "<span id=\"frame-label\">frame " << html_escape(c.frames.back().name) << "</span>\n"
     << "<label>speed <select id=\"fps\"><option>1</option><option selected>2</option>"
     << "<option>5</option><option>10</option></select> frames/s</label>\n"
     << "<span class=\"group\">all layers: <button data-all=\"hazard\">hazard</button>"
@@ -715,9 +739,12 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
     << "<label><input type=\"checkbox\" id=\"link\" checked> link views</label>\n"
     << "<button id=\"fit\" title=\"fit every map to its grid (double-click a map)\">fit maps</button>\n"
     << "<span id=\"status\">loading&hellip;</span>\n</div>\n";
+}
 
+/// One section per map, the readout beside them.
+void write_maps(std::ostream& o, const RunContent& c) {
   o << "<div id=\"main\">\n<div id=\"maps\">\n";
-  for (const MapSpec& s : maps) {
+  for (const MapSpec& s : c.maps) {
     o << "<section class=\"map\" id=\"map-" << s.id << "\" data-map=\"" << s.id << "\">\n<h3>"
       << html_escape(s.title) << "</h3>";
     if (s.kind == "layer")
@@ -732,58 +759,76 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
        "Space: play. The path is the rover's body origin over every processed frame; the "
        "triangle its pose, pointing along its x axis. Open view.html#frame=N for a frame.</p>\n"
     << "</aside>\n</div>\n";
-  if (poses.empty())
+  if (c.poses.empty())
     o << "<p class=\"note\">No poses: summary.json predates the T_W_B record and the "
          "sequence's poses.txt was not found; maps are shown without the path.</p>\n";
+}
 
+void write_evaluation(std::ostream& o, const EvalData& eval) {
+  o << "<h2 id=\"evaluation\">Evaluation</h2>\n"
+    << "<p>From eval/ (hazmap evaluate): missed = obstacle at least h_min high called "
+       "traversable; false alarm = obstacle-free ground called a hazard; recall = share "
+       "of the obstacle pixels labelled hazard.</p>\n"
+    << render_table(eval.table) << "<div id=\"eval-plots\" class=\"plots\"></div>\n"
+    << "<h3>Error maps</h3>\n<div id=\"error-maps\">\n";
+  if (eval.error_maps.empty())
+    o << "<p>None in eval/ (hazmap evaluate --error-maps FRAMES writes them).</p>\n";
+  for (const auto& [frame, uri] : eval.error_maps)
+    o << "<figure class=\"error-map\" data-frame=\"" << html_escape(frame) << "\"><img alt=\"errors "
+      << html_escape(frame) << "\" src=\"" << uri << "\"><figcaption>frame " << html_escape(frame)
+      << ": per layer |h - h_gt| and the outcome at each ground-truth pixel</figcaption></figure>\n";
+  o << "</div>\n";
+}
+
+std::string page_html(const RunContent& c) {
+  std::ostringstream o;
+  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+    << "<title>" << html_escape(c.title) << "</title>\n<style>" << report_style()
+    << viewer_assets::kStyle << "</style>\n</head>\n<body>\n<h1>" << html_escape(c.title)
+    << "</h1>\n<p class=\"subtitle\">" << html_escape(c.subtitle) << "</p>\n";
+  write_controls(o, c);
+  write_maps(o, c);
   o << "<h2>Per frame</h2>\n<p>From summary.json, over every processed frame; a click picks "
        "the nearest written frame. Areas are over each map's window.</p>\n"
     << "<div id=\"plots\" class=\"plots\"></div>\n";
-
-  if (eval.present) {
-    o << "<h2 id=\"evaluation\">Evaluation</h2>\n"
-      << "<p>From eval/ (hazmap evaluate): missed = obstacle at least h_min high called "
-         "traversable; false alarm = obstacle-free ground called a hazard; recall = share "
-         "of the obstacle pixels labelled hazard.</p>\n"
-      << render_table(eval.table) << "<div id=\"eval-plots\" class=\"plots\"></div>\n"
-      << "<h3>Error maps</h3>\n<div id=\"error-maps\">\n";
-    if (eval.error_maps.empty())
-      o << "<p>None in eval/ (hazmap evaluate --error-maps FRAMES writes them).</p>\n";
-    for (const auto& [frame, uri] : eval.error_maps)
-      o << "<figure class=\"error-map\" data-frame=\"" << html_escape(frame) << "\"><img alt=\"errors "
-        << html_escape(frame) << "\" src=\"" << uri << "\"><figcaption>frame " << html_escape(frame)
-        << ": per layer |h - h_gt| and the outcome at each ground-truth pixel</figcaption></figure>\n";
-    o << "</div>\n";
-  }
-
+  if (c.eval.present) write_evaluation(o, c.eval);
   o << "<h2>Run log</h2>\n";
-  if (problems.empty()) {
+  if (c.log_problems.empty()) {
     o << "<p>No warning or error in run.log.</p>\n";
   } else {
-    o << "<details id=\"log\"><summary>" << problems.size() << " warning and error lines of run.log"
-      << (problems.size() == kMaxLogLines ? " (the last ones)" : "") << "</summary>\n<pre>";
-    for (const std::string& l : problems) o << html_escape(l) << '\n';
+    o << "<details id=\"log\"><summary>" << c.log_problems.size()
+      << " warning and error lines of run.log"
+      << (c.log_problems.size() == kMaxLogLines ? " (the last ones)" : "") << "</summary>\n<pre>";
+    for (const std::string& l : c.log_problems) o << html_escape(l) << '\n';
     o << "</pre></details>\n";
   }
   o << "<h2>Configuration</h2>\n<details><summary>settings_yaml of summary.json</summary>\n<pre>"
-    << html_escape(str("settings_yaml")) << "</pre></details>\n";
-
-  o << "<script type=\"application/json\" id=\"run-data\">" << script_safe(j.str()) << "</script>\n";
-  for (size_t f = 0; f < frames.size(); ++f)
-    o << "<script type=\"application/octet-stream\" id=\"grids-" << f << "\">" << frames[f].base64
-      << "</script>\n";
+    << html_escape(c.settings_yaml) << "</pre></details>\n";
+  o << "<script type=\"application/json\" id=\"run-data\">" << script_safe(data_json(c))
+    << "</script>\n";
+  for (size_t f = 0; f < c.frames.size(); ++f)
+    o << "<script type=\"application/octet-stream\" id=\"grids-" << f << "\">"
+      << c.frames[f].base64 << "</script>\n";
   o << "<script>" << viewer_assets::kScript << "</script>\n</body>\n</html>\n";
+  return o.str();
+}
 
-  std::string page = o.str();
+}  // namespace
+
+std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
+  const RunContent content = read_run(run_dir);
+  std::string page = page_html(content);
   if (report) {
     report->page_bytes = page.size();
-    report->frames = frames.size();
-    report->frames_processed = series.names.size();
-    report->maps = maps.size();
-    report->grid_bytes = grid_bytes;
-    report->grid_text_bytes = text_bytes;
-    report->with_poses = !poses.empty();
-    report->with_evaluation = eval.present;
+    report->frames = content.frames.size();
+    report->frames_processed = content.series.names.size();
+    report->maps = content.maps.size();
+    report->grid_bytes = content.grid_bytes;
+    report->grid_text_bytes = 0;
+    for (const PackedFrame& f : content.frames) report->grid_text_bytes += f.base64.size();
+    report->with_poses = !content.poses.empty();
+    report->with_evaluation = content.eval.present;
   }
   return page;
 }

@@ -323,6 +323,17 @@ TEST(RunViewer, BadInputNamesTheFileAndLeavesNoPartialPage) {
               std::string::npos);
     fs::remove_all(dir / "run" / "eval");
   }
+  {  // a run that wrote PNGs only
+    const fs::path file = dir / "run" / "summary.json";
+    const std::string kept = hazmap::testing::read_text(file);
+    Config config = hazmap::testing::oracle_config();
+    config.output.jdem = false;
+    std::ofstream(file, std::ios::trunc)
+        << "{\"settings_yaml\": " << hazmap::testing::json_string(to_yaml(config)) << "}\n";
+    EXPECT_NE(failure(dir / "run", good).find(file.string() + ": the run wrote no grids"),
+              std::string::npos);
+    restore(file, kept);
+  }
   fs::rename(dir / "run" / "frames", dir / "run" / "frames_moved");
   EXPECT_NE(failure(dir / "run", good).find((dir / "run" / "frames").string() + ": missing"),
             std::string::npos);

@@ -19,6 +19,8 @@
   // that the picture is one colour or a dot.
   var MAX_PIXELS_PER_CELL = 400, MAX_ZOOM_OUT = 8;
   var SCALE_BAR_TARGET_PX = 110;   // the scale bar's length is the nice number nearest this
+  var FIT_MARGIN = 1.02;           // a fitted grid leaves its border visible
+  var WHEEL_ZOOM_PER_PX = 0.0015;  // zoom factor exp(-k deltaY): a wheel notch (100) is 14 %
   var FRAME_CACHE = 48;            // unpacked frames kept (about 2 MB each at CADRE's sizes)
   // Categorical series colours (Tableau 10), as plot.cpp's charts.
   var SERIES = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2',
@@ -168,7 +170,7 @@
     var g = unpacked.maps[p.index], s = canvasSize(p);
     p.view.cx = g.cx;
     p.view.cy = g.cy;
-    p.view.mpp = Math.max(g.cols * g.res / s[0], g.rows * g.res / s[1], 1e-6) * 1.02;
+    p.view.mpp = Math.max(g.cols * g.res / s[0], g.rows * g.res / s[1], 1e-6) * FIT_MARGIN;
   }
 
   function toScreen(p, x, y) {
@@ -532,9 +534,10 @@
       ctx.fillStyle = colour;
       ctx.lineWidth = 1.8;
       ctx.beginPath();
+      // Missing values (areas of frames not written, every_n > 1) are bridged.
       var open = false;
       s.values.forEach(function (v, i) {
-        if (v === null || !isFinite(v)) { open = false; return; }
+        if (v === null || !isFinite(v)) return;
         if (open) ctx.lineTo(X(i), Y(v)); else ctx.moveTo(X(i), Y(v));
         open = true;
       });
@@ -706,7 +709,7 @@
       e.preventDefault();
       var r = c.getBoundingClientRect(), sx = e.clientX - r.left, sy = e.clientY - r.top;
       var w = toWorld(p, sx, sy), s = canvasSize(p);
-      p.view.mpp *= Math.exp(e.deltaY * 0.0015);
+      p.view.mpp *= Math.exp(e.deltaY * WHEEL_ZOOM_PER_PX);
       clampZoom(p);
       p.view.cx = w.x - (sx - s[0] / 2) * p.view.mpp;
       p.view.cy = w.y + (sy - s[1] / 2) * p.view.mpp;
