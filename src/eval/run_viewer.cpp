@@ -136,21 +136,27 @@ std::vector<MapSpec> map_specs(const Config& config) {
   return maps;
 }
 
-/// A frame's grid in either format the run may have written (output.format).
-std::optional<JdemGrid> read_grid(const fs::path& dir, const std::string& stem) {
+/// A frame's grid in either format the run may have written (output.format), and the
+/// file it came from.
+struct FoundGrid {
+  JdemGrid grid;
+  fs::path file;
+};
+
+std::optional<FoundGrid> read_grid(const fs::path& dir, const std::string& stem) {
   const fs::path jdem = dir / (stem + ".jdem"), tif = dir / (stem + ".tif");
-  JdemGrid g;
-  fs::path used;
+  FoundGrid g;
   if (fs::exists(jdem)) {
-    g = read_jdem(jdem);
-    used = jdem;
+    g.grid = read_jdem(jdem);
+    g.file = jdem;
   } else if (fs::exists(tif)) {
-    g = read_geotiff(tif);
-    used = tif;
+    g.grid = read_geotiff(tif);
+    g.file = tif;
   } else {
     return std::nullopt;
   }
-  if (g.yaw_rad != 0.0) throw Error(used.string() + ": rotated grids (yaw != 0) are not supported");
+  if (g.grid.yaw_rad != 0.0)
+    throw Error(g.file.string() + ": rotated grids (yaw != 0) are not supported");
   return g;
 }
 
@@ -189,12 +195,13 @@ PackedFrame pack_frame(const fs::path& frame_dir, const std::string& name,
     PackedMap packed;
     fs::path first_file;
     for (const GridFile& f : spec.files) {
-      const std::optional<JdemGrid> g = read_grid(frame_dir, f.stem);
-      const fs::path file = frame_dir / (f.stem + ".jdem");
-      if (!g) {
-        if (f.required) throw Error(file.string() + ": missing");
+      const std::optional<FoundGrid> found = read_grid(frame_dir, f.stem);
+      if (!found) {
+        if (f.required) throw Error((frame_dir / (f.stem + ".jdem")).string() + ": missing");
         continue;
       }
+      const JdemGrid* g = &found->grid;
+      const fs::path& file = found->file;
       if (first_file.empty()) {
         first_file = file;
         packed.rows = g->rows;

@@ -18,6 +18,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/embedded_grids.hpp"
 #include "hazmap/eval/run_evaluation.hpp"
+#include "hazmap/io/geotiff.hpp"
 #include "test_support.hpp"
 
 namespace hazmap::eval {
@@ -175,6 +176,25 @@ TEST(RunViewer, OptionalGridsJoinOnlyWhenEveryFrameHasThem) {
   EXPECT_EQ(data["maps"][2]["id"].as<std::string>(), "fused");
   EXPECT_EQ(data["maps"][0]["quantities"].as<std::vector<std::string>>(),
             (std::vector<std::string>{"hazard", "height", "variance", "slope_x"}));
+}
+
+TEST(RunViewer, ReadsGeoTiffGridsToo) {
+  TempDir dir;
+  write_run(dir / "run", dir / "seq");
+  const fs::path jdem = dir / "run" / "frames" / "000001" / "L1_height.jdem";
+  const JdemGrid grid = read_jdem(jdem);
+  write_geotiff(fs::path(jdem).replace_extension(".tif"), grid);  // output.format: geotiff
+  fs::remove(jdem);
+  const std::string page = render_run_viewer(dir / "run");
+  const YAML::Node a = page_data(page)["frames"][1]["maps"][1]["arrays"]["height"];
+  const std::vector<float> back =
+      unpack_float32(frame_buffer(page, 1),
+                     {PackedType::float32, a[1].as<size_t>(), a[2].as<size_t>()});
+  ASSERT_EQ(back.size(), grid.values.size());
+  for (size_t i = 0; i < back.size(); ++i)
+    ASSERT_TRUE(bits(back[i]) == bits(grid.values[i]) ||
+                (std::isnan(back[i]) && std::isnan(grid.values[i])))
+        << "cell " << i;
 }
 
 TEST(RunViewer, PathFromSummaryJsonElseFromTheSequencePoses) {

@@ -776,7 +776,13 @@
     else if (e.key === 'ArrowRight') showFrame(state.frame + 1);
     else if (e.key === ' ') { e.preventDefault(); togglePlay(); }
   });
-  window.addEventListener('resize', function () { requestDraw(); drawPlots(); });
+  // The readout stays in view below the sticky controls, whose height depends on the width.
+  function placeSide() {
+    document.getElementById('side').style.top =
+        (document.getElementById('controls').offsetHeight + 8) + 'px';
+  }
+  window.addEventListener('resize', function () { placeSide(); requestDraw(); drawPlots(); });
+  placeSide();
   window.addEventListener('hashchange', function () {
     var i = frameFromHash(readHash());
     if (i !== state.frame) showFrame(i);
