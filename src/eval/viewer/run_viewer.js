@@ -7,6 +7,13 @@
 (function () {
   'use strict';
 
+  // A failure anywhere below says so where the user looks, not only on the console.
+  window.addEventListener('error', function (e) {
+    var status = document.getElementById('status');
+    status.textContent = 'page script failed: ' + e.message;
+    status.className = 'error';
+  });
+
   var data = JSON.parse(document.getElementById('run-data').textContent);
   var maps = data.maps, frames = data.frames;
 
