@@ -19,5 +19,5 @@ done
 last="$(ls -d "$out"/frames/*/ | tail -n 1)"
 echo
 echo "Look at the last frame's hazard map: ${last}L0_hazard.png"
-echo "(grey unknown, green traversable, red hazard, white cross = robot)"
+echo "(grey unknown, green traversable, red hazard; the white ring is the robot, its tick the heading)"
 echo "or the whole run in a browser: $out/view.html"

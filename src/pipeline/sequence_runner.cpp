@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/progress.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"
@@ -255,6 +256,7 @@ RunResult SequenceRun::run() {
   };
 
   const int n = static_cast<int>(frames.size());
+  const Progress progress(n);
   int last = -1;  // index of the last frame processed
   bool ground_checked = false;  // the first frame with points is checked for tilt
   for (int i = 0; i < n; ++i) {
@@ -292,11 +294,11 @@ RunResult SequenceRun::run() {
       result.points_total += report.points;
       ++result.frames_processed;
       spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
-                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
+                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f}); {}",
                    i + 1, n, frame.name, report.points,
                    rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms,
                    report.ms.rectify_ms, report.ms.disparity_ms, report.ms.points_ms,
-                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms);
+                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms, progress.rate(i + 1));
       records.push_back(std::move(rec));
     } catch (const Error& e) {
       // The frames handed to the writer before this one are written whole first.

@@ -366,12 +366,24 @@ class Evaluate(unittest.TestCase):
                         self.assertAlmostEqual(value, written[layer["layer"]][key], places=9)
                     else:
                         self.assertEqual(value, written[layer["layer"]][key], key)
-            self.raises_on_missing_ground_truth(run)
+            self.raises_on_missing_ground_truth(run, seq)
 
-    def raises_on_missing_ground_truth(self, run):
+    def raises_on_missing_ground_truth(self, run, seq):
+        # The run's own sequence (same poses, so the fingerprint check passes) without its
+        # ground-truth grids.
+        import shutil
+        bare = seq + "_no_gt"
+        shutil.copytree(seq, bare)
+        for name in os.listdir(bare):
+            if name.startswith("gt_"):
+                os.remove(os.path.join(bare, name))
         with self.assertRaises(hazmap.Error) as caught:
-            hazmap.evaluate(run, SAMPLE, write_report=False)  # data/sample has no GT
+            hazmap.evaluate(run, bare, write_report=False)
         self.assertIn("gt_height.jdem", str(caught.exception))
+        # Another sequence is refused first, by its poses.
+        with self.assertRaises(hazmap.Error) as caught:
+            hazmap.evaluate(run, SAMPLE, write_report=False)
+        self.assertIn("poses fingerprint", str(caught.exception))
 
 
 if __name__ == "__main__":
