@@ -20,8 +20,9 @@ planes), the fused and footprint maps, exactly as the frame's grids (JDEM or Geo
 them; the rover's path and pose; summary.json's per-frame points, stage times and areas;
 and, when RUN/eval/metrics.json exists (hazmap evaluate), the metrics and error maps.
 In the page: a frame slider and play button, hazard / height / sigma per layer with
-colours over the 2nd-98th percentile, wheel to zoom, drag to pan (views linked), a
-metric scale bar, the values of every map under the pointer. view.html#frame=N opens at
+colours over the height PNGs' robust range (output.png_height_clip_pct), wheel to zoom,
+drag to pan (views linked), a metric scale bar, the values of every map under the
+pointer. view.html#frame=N opens at
 frame N (a name, or a position from 0).
   --out FILE   where to write the page (default RUN/view.html)
 )";

@@ -22,6 +22,7 @@
 #include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/map_render.hpp"
 #include "viewer/viewer_assets.hpp"
 
 namespace hazmap::eval {
@@ -164,16 +165,17 @@ bool grid_exists(const fs::path& dir, const std::string& stem) {
   return fs::exists(dir / (stem + ".jdem")) || fs::exists(dir / (stem + ".tif"));
 }
 
-/// [kRangeLowPercentile, kRangeHighPercentile] of the finite values; nullopt without any.
-std::optional<std::pair<double, double>> robust_range(std::vector<float> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return std::nullopt;
-  const auto at = [&](double percentile) {
-    const auto k = static_cast<size_t>(std::lround(percentile / 100.0 * double(v.size() - 1)));
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return static_cast<double>(v[k]);
-  };
-  return std::make_pair(at(kRangeLowPercentile), at(kRangeHighPercentile));
+/// The colour range of a height (or sigma) grid, as the run's height PNGs colour theirs
+/// (map_render.hpp, output.png_height_clip_pct cut from each end); nullopt when no cell
+/// is known.
+std::optional<std::pair<double, double>> colour_range(const JdemGrid& grid, double clip_pct) {
+  DenseGrid g;
+  g.rows = grid.rows;
+  g.cols = grid.cols;
+  g.values = grid.values;
+  const HeightRange r = robust_height_range(g, clip_pct);
+  if (!r.any) return std::nullopt;
+  return std::make_pair(r.lo, r.hi);
 }
 
 /// The run-wide range: the widest of the frames' robust ranges (pooling every frame's
@@ -187,7 +189,7 @@ void widen(std::optional<std::pair<double, double>>& run,
 }
 
 PackedFrame pack_frame(const fs::path& frame_dir, const std::string& name,
-                       const std::vector<MapSpec>& maps) {
+                       const std::vector<MapSpec>& maps, double clip_pct) {
   PackedFrame frame;
   frame.name = name;
   GridPacker packer;
@@ -224,12 +226,11 @@ PackedFrame pack_frame(const fs::path& frame_dir, const std::string& name,
       } catch (const Error& e) {
         throw Error(file.string() + ": " + e.what());
       }
-      if (f.quantity == "height") packed.height_range = robust_range(g->values);
+      if (f.quantity == "height") packed.height_range = colour_range(*g, clip_pct);
       if (f.quantity == "variance") {
-        std::vector<float> sigma(g->values.size());
-        std::transform(g->values.begin(), g->values.end(), sigma.begin(),
-                       [](float v) { return v >= 0 ? std::sqrt(v) : NAN; });
-        packed.sigma_range = robust_range(std::move(sigma));
+        JdemGrid sigma = *g;
+        for (float& v : sigma.values) v = v >= 0 ? std::sqrt(v) : NAN;
+        packed.sigma_range = colour_range(sigma, clip_pct);
       }
     }
     frame.maps.push_back(std::move(packed));
@@ -510,6 +511,7 @@ struct RunContent {
   std::string settings_yaml;
   std::vector<MapSpec> maps;
   std::vector<PackedFrame> frames;
+  double clip_pct = 0;  ///< output.png_height_clip_pct: the colour ranges' percentiles
   /// Per map: the widest of the frames' robust ranges (see widen()).
   std::vector<std::optional<std::pair<double, double>>> run_height, run_sigma;
   FrameSeries series;
@@ -570,7 +572,9 @@ RunContent read_run(const fs::path& run_dir) {
   const fs::path frames_dir = run_dir / "frames";
   const std::vector<std::string> names = frame_folders(frames_dir);
   c.maps = maps_present(all_maps, frames_dir, names);
-  for (const std::string& name : names) c.frames.push_back(pack_frame(frames_dir / name, name, c.maps));
+  c.clip_pct = config.output.png_height_clip_pct;
+  for (const std::string& name : names)
+    c.frames.push_back(pack_frame(frames_dir / name, name, c.maps, c.clip_pct));
   c.run_height.resize(c.maps.size());
   c.run_sigma.resize(c.maps.size());
   for (const PackedFrame& f : c.frames)
@@ -607,6 +611,7 @@ std::string data_json(const RunContent& c) {
   JsonWriter j;
   j.begin_object();
   j.key("title").value(c.title);
+  j.key("clip_pct").value(c.clip_pct);
   j.key("maps").begin_array();
   for (size_t m = 0; m < c.maps.size(); ++m) {
     const MapSpec& s = c.maps[m];
@@ -764,7 +769,8 @@ void write_maps(std::ostream& o, const RunContent& c) {
     << "Point at a map: position in W and every map's cell there.</div>\n"
     << "<p class=\"hint\">Wheel: zoom. Drag: pan. Double-click: fit. &larr; &rarr;: frames. "
        "Space: play. The path is the rover's body origin over every processed frame; the "
-       "triangle its pose, pointing along its x axis. Open view.html#frame=N for a frame.</p>\n"
+       "ring is where it is, its tick its heading (x axis). Open view.html#frame=N for a "
+       "frame.</p>\n"
     << "</aside>\n</div>\n";
   if (c.poses.empty())
     o << "<p class=\"note\">No poses: summary.json predates the T_W_B record and the "

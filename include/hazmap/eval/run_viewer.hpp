@@ -11,9 +11,10 @@
 //     warnings and errors of run.log and the configuration used;
 //   - when RUN/eval/metrics.json exists (`hazmap evaluate` with its default --out), the
 //     metrics per layer, metrics.csv's per-frame values and the errors_<frame>.png maps.
-// The page's script draws the grids with colour maps over robust percentile ranges (see
-// kRangeLowPercentile), pans and zooms with a metric scale bar, reads out a cell's values
-// under the pointer in every map, and plays the frames. view.html#frame=N (a frame's name,
+// The page's script draws the grids with colour maps over robust ranges (heights and
+// sigmas as the run's height PNGs: output.png_height_clip_pct percent cut from each end,
+// per frame or the widest over the run), pans and zooms with a metric scale bar, reads
+// out a cell's values under the pointer in every map, and plays the frames. view.html#frame=N (a frame's name,
 // else its position from 0) opens at a frame.
 //
 // Inputs are checked before anything is written: a folder without summary.json, a
@@ -26,12 +27,6 @@
 #include <string>
 
 namespace hazmap::eval {
-
-/// Colour ranges of heights and sigmas span these percentiles of the known cells (per
-/// frame, and pooled over the run): a few outliers (a mismatched point, a cell at the
-/// window's edge) would otherwise squeeze the terrain into one colour.
-constexpr double kRangeLowPercentile = 2.0;
-constexpr double kRangeHighPercentile = 98.0;
 
 /// At most this many warning and error lines of run.log go into the page (the last
 /// ones): run.log is appended to by every run into the folder.

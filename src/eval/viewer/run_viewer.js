@@ -25,7 +25,7 @@
   // How far one may zoom in and out, relative to a cell and to the fitted view: beyond
   // that the picture is one colour or a dot.
   var MAX_PIXELS_PER_CELL = 400, MAX_ZOOM_OUT = 8;
-  var SCALE_BAR_TARGET_PX = 110;   // the scale bar's length is the nice number nearest this
+  var ROBOT_RING_PX = 7;           // the rover's ring, CSS pixels at any zoom
   var FIT_MARGIN = 1.02;           // a fitted grid leaves its border visible
   var WHEEL_ZOOM_PER_PX = 0.0015;  // zoom factor exp(-k deltaY): a wheel notch (100) is 14 %
   var FRAME_CACHE = 48;            // unpacked frames kept (about 2 MB each at CADRE's sizes)
@@ -236,8 +236,10 @@
     return +(m * 1000).toPrecision(3) + ' mm';
   }
 
+  // The largest 1, 2 or 5 x 10^k metres within a quarter of the view, as the PNGs' bars
+  // (map_render.hpp scale_bar_length_m).
   function drawScaleBar(ctx, p) {
-    var s = canvasSize(p), len = niceLength(SCALE_BAR_TARGET_PX * p.view.mpp);
+    var s = canvasSize(p), len = niceLength(s[0] / 4 * p.view.mpp);
     var w = len / p.view.mpp, x = 10, y = s[1] - 14, label = lengthText(len);
     ctx.font = '12px system-ui, sans-serif';
     var tw = ctx.measureText(label).width;
@@ -291,19 +293,19 @@
     line(0, upto, '#fff', 2, []);
     line(upto, last, 'rgba(255,255,255,0.8)', 1.5, [4, 4]);
     if (now < 0) return;
-    // The rover: a triangle along its x axis (screen y points down: the angle flips).
-    var c = toScreen(p, xs[now], ys[now]), a = -data.poses.yaw_rad[now];
-    ctx.save();
-    ctx.translate(c[0], c[1]);
-    ctx.rotate(a);
-    ctx.beginPath();
-    ctx.moveTo(11, 0); ctx.lineTo(-7, 7); ctx.lineTo(-4, 0); ctx.lineTo(-7, -7); ctx.closePath();
-    ctx.fillStyle = '#fff';
-    ctx.strokeStyle = '#000';
-    ctx.lineWidth = 1.5;
-    ctx.fill();
-    ctx.stroke();
-    ctx.restore();
+    // The rover as the PNGs draw it: a hollow ring, so that the cells under it stay
+    // visible, with a tick along its x axis (screen y points down: the angle flips).
+    var c = toScreen(p, xs[now], ys[now]), yaw = data.poses.yaw_rad[now];
+    var dir = [Math.cos(yaw), -Math.sin(yaw)], r = ROBOT_RING_PX;
+    [['rgba(0,0,0,0.8)', 4], ['#fff', 2]].forEach(function (pen) {
+      ctx.strokeStyle = pen[0];
+      ctx.lineWidth = pen[1];
+      ctx.beginPath();
+      ctx.arc(c[0], c[1], r, 0, 2 * Math.PI);
+      ctx.moveTo(c[0] + dir[0] * r, c[1] + dir[1] * r);
+      ctx.lineTo(c[0] + dir[0] * 2 * r, c[1] + dir[1] * 2 * r);
+      ctx.stroke();
+    });
   }
 
   function drawHover(ctx, p) {
@@ -360,6 +362,12 @@
   // ---------------------------------------------------------------- legends, stats
   function fixed(v, digits) { return (v >= 0 ? '+' : '') + v.toFixed(digits); }
 
+  // output.png_height_clip_pct cut from each end, as the run's height PNGs.
+  function percentileText() {
+    var c = data.clip_pct;
+    return c > 0 ? +c.toPrecision(3) + '&ndash;' + +(100 - c).toPrecision(3) + ' %' : 'min&ndash;max';
+  }
+
   function updateLegend(p) {
     var q = quantityOf(p), html = '';
     if (q === 'hazard') {
@@ -380,7 +388,7 @@
              '</span><span class="ramp" style="background:linear-gradient(to right,' +
              stops.join(',') + ')"></span><span>' + hi + '</span><span>(' +
              (state.rangeMode === 'run' ? 'whole run' : 'this frame') + ', ' +
-             '2nd&ndash;98th percentile)</span>';
+             percentileText() + ')</span>';
     }
     p.legend.innerHTML = html;
     p.section.querySelectorAll('.qsel button').forEach(function (b) {
