@@ -204,7 +204,9 @@
       panels.forEach(function (o) {
         if (o !== p) o.view = { cx: p.view.cx, cy: p.view.cy, mpp: p.view.mpp, fit: false };
       });
-    state.pinned = { x: p.view.cx, y: p.view.cy, width: p.view.mpp * canvasSize(p)[0] };
+    // Only linked views fit in one address; unlinked ones are not kept there.
+    state.pinned = state.link ? { x: p.view.cx, y: p.view.cy, width: p.view.mpp * canvasSize(p)[0] }
+                              : null;
     writeHash();
     requestDraw();
   }
@@ -698,7 +700,14 @@
     });
     return h;
   }
+  // Browsers throttle (and complain about) frequent history updates: a drag or a wheel
+  // spin updates the address once it has settled.
+  var HASH_DELAY_MS = 250, hashTimer = null;
   function writeHash() {
+    clearTimeout(hashTimer);
+    hashTimer = setTimeout(writeHashNow, HASH_DELAY_MS);
+  }
+  function writeHashNow() {
     var h = readHash();
     h.frame = frames[state.frame].name;
     if (state.pinned)
