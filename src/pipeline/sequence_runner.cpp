@@ -36,6 +36,7 @@ struct FrameRecord {
   std::vector<HazardAreas> areas;  ///< per layer, then fused, footprint (written frames only)
   std::vector<double> layer_map_ms;  ///< each layer's share of the insertion
   std::vector<GateCounts> layer_gates;  ///< each layer's SPEC 4 gate drops
+  Pose3d T_W_B = Pose3d::Identity();  ///< the pose the frame was mapped with
 };
 
 /// How the run ended, for the summary.
@@ -134,6 +135,13 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("points").value(f.points);
     j.key("points_below_ground").value(f.points_below_ground);
     j.key("disparities_unsupported").value(f.disparities_unsupported);
+    // The pose as given (poses.txt's order: x y z qx qy qz qw), so that the run alone
+    // shows where the rover was (hazmap view draws its path), every frame processed.
+    const Eigen::Quaterniond q(f.T_W_B.linear());
+    const Eigen::Vector3d& t = f.T_W_B.translation();
+    j.key("T_W_B").begin_array();
+    for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) j.value(v);
+    j.end_array();
     j.key("gated").begin_array();  // per layer, SPEC 4
     for (size_t i = 0; i < f.layer_gates.size(); ++i) {
       j.begin_object();
@@ -258,6 +266,7 @@ RunResult SequenceRun::run() {
     try {
       FrameRecord rec;
       rec.name = frame.name;
+      rec.T_W_B = frame.pose.T_W_B;
       const auto t = Clock::now();
       const cv::Mat left = read_image(frame.left_path);
       const cv::Mat right = read_image(frame.right_path);
