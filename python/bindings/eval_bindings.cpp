@@ -43,6 +43,7 @@ py::dict metrics_dict(const eval::MetricSums& sums) {
   d["height_rms_all_m"] = m.height_rms_all_m;
   d["height_samples_all"] = m.height_samples_all;
   d["variance_violation_all"] = m.variance_violation_all;
+  d["max_below_m"] = m.max_below_m;
   return d;
 }
 

@@ -24,6 +24,8 @@ MetricSums& MetricSums::operator+=(const MetricSums& o) {
   variance_all_px += o.variance_all_px;
   violation_all_px += o.violation_all_px;
   if (pixel_area_m2 == 0.0) pixel_area_m2 = o.pixel_area_m2;
+  height_cells += o.height_cells;
+  max_below_m = std::max(max_below_m, o.max_below_m);
   return *this;
 }
 
@@ -54,6 +56,7 @@ LayerMetrics derive_metrics(const MetricSums& s) {
                            ? kNaN
                            : std::sqrt(s.sq_error_all_sum_m2 / static_cast<double>(s.height_all_px));
   m.variance_violation_all = ratio(s.violation_all_px, s.variance_all_px);
+  m.max_below_m = s.height_cells == 0 ? kNaN : s.max_below_m;
   return m;
 }
 
@@ -237,6 +240,31 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
       if (with_near && near->contains(g.x_of_col(c), g.y_of_row(r))) *near_sums += px;
       if (maps) maps->outcome.at(r - r0, c - c0) = static_cast<float>(outcome);
     }
+  }
+  // Deepest below the terrain, over the layer's cells: each published height against the
+  // GT pixel holding the cell centre.
+  if (layer.has_height()) {
+    const Pose3d T_W_map = T_map_W.inverse();
+    for (int mr = 0; mr < window.rows; ++mr)
+      for (int mc = 0; mc < window.cols; ++mc) {
+        const double h = layer.height.at(mr, mc);
+        if (!std::isfinite(h)) continue;
+        const Eigen::Vector3d q_W =
+            T_W_map * Eigen::Vector3d(window.x_of_col(mc), window.y_of_row(mr), h);
+        int r = 0, c = 0;
+        if (!g.cell_at(q_W.x(), q_W.y(), &r, &c)) continue;
+        const double z_gt_W = g.at(r, c);
+        if (!std::isfinite(z_gt_W) || !std::isfinite(static_cast<double>(gt.hazard.at(r, c))))
+          continue;
+        const double z_gt_map = (T_map_W * Eigen::Vector3d(q_W.x(), q_W.y(), z_gt_W)).z();
+        const double below = z_gt_map - h;
+        ++s.height_cells;
+        s.max_below_m = std::max(s.max_below_m, below);
+        if (with_near && near->contains(q_W.x(), q_W.y())) {
+          ++near_sums->height_cells;
+          near_sums->max_below_m = std::max(near_sums->max_below_m, below);
+        }
+      }
   }
   return s;
 }

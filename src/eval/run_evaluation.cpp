@@ -211,7 +211,7 @@ const char* kCsvHeader =
     "frame,frame_number,layer,resolution_m,rule,h_min_m,extent_m2,known_m2,unknown_fraction,"
     "height_rms_m,height_samples,gt_hazard_m2,gt_hazard_known_m2,missed_m2,missed_fraction,"
     "missed_of_hazard,false_alarm_m2,false_alarm_fraction,variance_violation,hazard_recall,"
-    "hazard_unknown,height_rms_all_m,height_samples_all,variance_violation_all";
+    "hazard_unknown,height_rms_all_m,height_samples_all,variance_violation_all,max_below_m";
 
 // The --near columns: the hazard metrics over the GT pixels near the rover (no heights).
 const char* kNearFields[] = {"near_extent_m2",      "near_known_m2",       "near_gt_hazard_m2",
@@ -242,7 +242,7 @@ std::string csv_metrics(const LayerMetrics& m, const LayerMetrics* near) {
     << fmt(m.false_alarm_area_m2) << ',' << fmt(m.false_alarm_fraction) << ','
     << fmt(m.variance_violation) << ',' << fmt(m.hazard_recall) << ',' << fmt(m.hazard_unknown)
     << ',' << fmt(m.height_rms_all_m) << ',' << m.height_samples_all << ','
-    << fmt(m.variance_violation_all);
+    << fmt(m.variance_violation_all) << ',' << fmt(m.max_below_m);
   if (near)
     for (double v : near_values(*near)) o << ',' << fmt(v);
   return o.str();
@@ -431,6 +431,7 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
     j.key("height_rms_all_m").value(m.height_rms_all_m);
     j.key("height_samples_all").value(m.height_samples_all);
     j.key("variance_violation_all").value(m.variance_violation_all);
+    j.key("max_below_m").value(m.max_below_m);
     if (near) {
       const std::vector<double> v = near_values(derive_metrics(ev.near_pooled[l]));
       for (size_t k = 0; k < v.size(); ++k) j.key(kNearFields[k]).value(v[k]);
@@ -469,6 +470,7 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       {"height RMS, every published height", "cm", 100.0, &LayerMetrics::height_rms_all_m},
       {"variance violations, every published height", "%", 100.0,
        &LayerMetrics::variance_violation_all},
+      {"deepest cell below the terrain", "cm", 100.0, &LayerMetrics::max_below_m},
   };
   std::vector<cv::Mat> charts;
   const auto add_chart = [&](const Panel& p, const std::vector<std::vector<MetricSums>>& sums) {
@@ -481,7 +483,8 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       if (ev.layers[l].index < 0 &&
           (p.field == &LayerMetrics::height_rms_m || p.field == &LayerMetrics::variance_violation ||
            p.field == &LayerMetrics::height_rms_all_m ||
-           p.field == &LayerMetrics::variance_violation_all))
+           p.field == &LayerMetrics::variance_violation_all ||
+           p.field == &LayerMetrics::max_below_m))
         continue;
       Series s;
       s.name = ev.layers[l].name + " " + fmt(ev.layers[l].resolution_m * 100, "%g") + " cm";
@@ -523,7 +526,9 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       "h_min high that the layer calls traversable; false alarm = obstacle-free ground the "
       "layer calls a hazard. Recall = share of the obstacle pixels (>= h_min) in the window "
       "labelled hazard; obstacles unknown = share labelled unknown. \"All heights\" columns "
-      "count every published height, cells of unknown class included. The fused and "
+      "count every published height, cells of unknown class included; \"deepest below "
+      "terrain\" is the largest amount by which a cell's published height lies below the "
+      "ground truth at its centre (any class; negative: none below). The fused and "
       "footprint maps are scored with the critical height as h_min; the footprint map "
       "against obstacles dilated by the footprint radius (where the rover's centre may be).";
   if (near)
@@ -535,7 +540,8 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
                   "obstacles known [m2]", "missed [m2]", "missed [% of known]",
                   "missed [% of obstacles]", "false alarm [m2]", "false alarm [% of known]",
                   "variance violations [%]", "recall [%]", "obstacles unknown [%]",
-                  "height RMS, all heights [cm]", "variance violations, all heights [%]"};
+                  "height RMS, all heights [cm]", "variance violations, all heights [%]",
+                  "deepest below terrain [cm]"};
   if (near)
     for (const char* h : {"near recall [%]", "near obstacles unknown [%]", "near missed [m2]",
                           "near false alarm [% of known]"})
@@ -551,7 +557,7 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
                           fmt(m.false_alarm_area_m2, "%.4f"), pct(m.false_alarm_fraction),
                           pct(m.variance_violation), pct(m.hazard_recall),
                           pct(m.hazard_unknown), cm(m.height_rms_all_m, "%.3f"),
-                          pct(m.variance_violation_all)});
+                          pct(m.variance_violation_all), cm(m.max_below_m, "%.1f")});
     if (near) {
       const LayerMetrics n = derive_metrics(ev.near_pooled[l]);
       for (const std::string& v : {pct(n.hazard_recall), pct(n.hazard_unknown),

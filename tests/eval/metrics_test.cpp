@@ -264,6 +264,58 @@ TEST(MetricSums, NewMetricsPoolExactlyThroughSums) {
   EXPECT_EQ(m.height_samples_all, 4u);
 }
 
+// Deepest below the terrain (issue 19): over cells, each published height against the
+// GT pixel holding the cell centre, whatever the cell's class.
+TEST(ScoreLayer, DeepestBelowTheTerrainIsTakenOverCellCentres) {
+  GroundTruth gt;
+  gt.height.reset(8, 8, 0.01, 0.04, 0.04, 0.1f);
+  gt.hazard.reset(8, 8, 0.01, 0.04, 0.04, 0.0f);
+  gt.height.at(5, 2) = 0.2f;  // a 10 cm rock top
+  gt.hazard.at(5, 2) = 0.1f;
+  LayerMaps m;  // 1 cm cells on the GT pixels; class unknown everywhere
+  m.height.reset(8, 8, 0.01, 0.04, 0.04, 0.1f);
+  m.variance.reset(8, 8, 0.01, 0.04, 0.04, 1e-6f);
+  m.hazard.reset(8, 8, 0.01, 0.04, 0.04, 0.0f);
+  m.height.at(5, 2) = 0.12f;  // 8 cm below the rock top
+  m.height.at(1, 6) = 0.07f;  // 3 cm below the ground
+  m.height.at(3, 3) = std::numeric_limits<float>::quiet_NaN();
+  const NearRegion near{m.height.x_of_col(6), m.height.y_of_row(1), 0.012};
+  MetricSums n;
+  const MetricSums s = score_layer(m, gt, Pose3d::Identity(), 0.03, nullptr, &near, &n);
+  EXPECT_EQ(s.height_cells, 63u);
+  EXPECT_NEAR(s.max_below_m, 0.08, 1e-6);  // float heights
+  EXPECT_EQ(n.height_cells, 5u);  // the cell and its four neighbours
+  EXPECT_NEAR(n.max_below_m, 0.03, 1e-6);
+  EXPECT_NEAR(derive_metrics(s).max_below_m, 0.08, 1e-6);
+
+  // The same map in a frame shifted by (2 cm, 0, 5 cm) from W: unchanged.
+  Pose3d T_map_W = Pose3d::Identity();
+  T_map_W.translation() = Eigen::Vector3d(0.02, 0.0, 0.05);
+  LayerMaps shifted = m;
+  for (DenseGrid* g : {&shifted.height, &shifted.variance, &shifted.hazard}) g->center_x_m += 0.02;
+  for (float& h : shifted.height.values) h += 0.05f;
+  const MetricSums t = score_layer(shifted, gt, T_map_W, 0.03);
+  EXPECT_EQ(t.height_cells, 63u);
+  EXPECT_NEAR(t.max_below_m, 0.08, 1e-6);
+
+  // Every cell above the truth: the largest of the (negative) differences.
+  LayerMaps above = m;
+  above.height.values.assign(64, 0.3f);
+  EXPECT_NEAR(score_layer(above, gt, Pose3d::Identity(), 0.03).max_below_m, -0.1, 1e-6);
+  // A hazard-only map has no cells with heights: undefined.
+  LayerMaps hazard_only;
+  hazard_only.hazard = m.hazard;
+  const MetricSums none = score_layer(hazard_only, gt, Pose3d::Identity(), 0.03);
+  EXPECT_EQ(none.height_cells, 0u);
+  EXPECT_TRUE(std::isnan(derive_metrics(none).max_below_m));
+  // Pooled over frames by max.
+  MetricSums pooled = none;
+  pooled += n;
+  pooled += s;
+  EXPECT_EQ(pooled.height_cells, 68u);
+  EXPECT_NEAR(derive_metrics(pooled).max_below_m, 0.08, 1e-6);
+}
+
 // The footprint's truth: every pixel whose centre lies within the radius of an obstacle
 // pixel's centre takes that obstacle's height (the tallest when several reach it),
 // checked against a brute-force search over all pixel pairs.

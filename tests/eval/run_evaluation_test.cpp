@@ -316,13 +316,14 @@ TEST(RunEvaluation, NearMetricsCountTheGroundTruthAroundTheRover) {
   const std::string csv = testing::read_text(t.run / "eval" / "metrics.csv");
   for (const char* k : {"near_hazard_recall", "near_hazard_unknown", "near_missed_m2",
                         "near_false_alarm_fraction", "hazard_recall", "variance_violation_all",
-                        "height_rms_all_m"})
+                        "height_rms_all_m", "max_below_m"})
     EXPECT_NE(csv.find(k), std::string::npos) << k;
   EXPECT_NE(testing::read_text(t.run / "eval" / "summary.csv").find("near_hazard_recall"),
             std::string::npos);
   const std::string json = testing::read_text(t.run / "eval" / "metrics.json");
   EXPECT_NE(json.find("\"near_radius_m\""), std::string::npos);
   EXPECT_NE(json.find("\"near_missed_m2\""), std::string::npos);
+  EXPECT_NE(json.find("\"max_below_m\""), std::string::npos);
   // Without --near nothing near_ is computed or written.
   const RunEvaluation plain = t.evaluate();
   EXPECT_TRUE(plain.near_sums.empty());

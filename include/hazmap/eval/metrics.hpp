@@ -23,6 +23,12 @@
 //   - variance violation: known pixels with |e| > 3 sqrt(variance) (all known pixels
 //     with a finite variance, obstacles included, as SPEC 10 states); "all": the same
 //     over every pixel with a finite published height and variance, unknown class included.
+//   - deepest below the terrain (issue 19): over the layer's *cells* rather than the GT
+//     pixels, every cell with a finite published height (any class), max(z_gt - h) with h
+//     the cell's published height (at its centre) and z_gt the GT height of the pixel
+//     holding the cell centre, moved into the map frame. Cells, not pixels: a coarse cell
+//     cannot follow a rock across it, but none should sit below the ground under its
+//     centre (measured: mismatched points put 1 cm cells 13 cm below a rock's top).
 // Optionally the same counts restricted to GT pixels within a radius of a point of W
 // (the rover's true position: `evaluate --near R`).
 // Areas are pixel counts times the GT pixel area.
@@ -76,6 +82,10 @@ struct MetricSums {
   std::size_t variance_all_px = 0;  ///< finite map height and variance, any class
   std::size_t violation_all_px = 0; ///< ... with |e| > 3 sigma
   double pixel_area_m2 = 0.0;
+  /// Cells with a finite published height whose centre has GT, and the largest
+  /// z_gt - h over them [m] (-inf when none); pooled by max.
+  std::size_t height_cells = 0;
+  double max_below_m = -std::numeric_limits<double>::infinity();
 
   MetricSums& operator+=(const MetricSums& o);
 };
@@ -101,6 +111,9 @@ struct LayerMetrics {
   double height_rms_all_m = kNaN;      ///< over every published height (GT hazard 0)
   std::size_t height_samples_all = 0;
   double variance_violation_all = kNaN;  ///< over every published height with a variance
+  /// Deepest published cell height below the GT at the cell centre [m] (negative: every
+  /// cell lies above it); NaN when no cell has a height.
+  double max_below_m = kNaN;
 };
 
 LayerMetrics derive_metrics(const MetricSums& sums);
