@@ -33,6 +33,8 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 self="$repo/tools/eval_hazards.sh"
+# shellcheck source=tools/progress.sh
+. "$repo/tools/progress.sh"
 
 usage() {
   awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$self"
@@ -81,7 +83,7 @@ if [ "${1:-}" = "--sim-job" ]; then
   dir="$out/seq/$scenario"
   args="$(scenario_args "$scenario") $common"
   if [ -f "$dir/.done" ] && [ "$(cat "$dir/.done")" = "$args" ]; then
-    echo "eval_hazards: sequence $scenario cached"
+    echo "eval_hazards: sequence $scenario cached$(progress_note)"
     exit 0
   fi
   rm -rf "$dir"
@@ -90,7 +92,7 @@ if [ "${1:-}" = "--sim-job" ]; then
   start=$(date +%s)
   if "$hazmap" simulate --out "$dir" --ground-truth --quiet "${sim[@]}" >"$out/logs/sim_$scenario.log" 2>&1; then
     echo "$args" >"$dir/.done"
-    echo "eval_hazards: sequence $scenario rendered in $(($(date +%s) - start)) s"
+    echo "eval_hazards: sequence $scenario rendered in $(($(date +%s) - start)) s$(progress_note)"
   else
     echo "eval_hazards: simulate $scenario failed, see $out/logs/sim_$scenario.log" >&2
     exit 1
@@ -105,7 +107,7 @@ if [ "${1:-}" = "--map-job" ]; then
   start=$(date +%s)
   if "$hazmap" run --config "$config" --sequence "$out/seq/$scenario" --out "$dir" --quiet >"$log" 2>&1 &&
     "$hazmap" evaluate --run "$dir" --sequence "$out/seq/$scenario" --near "$near" --quiet >>"$log" 2>&1; then
-    echo "eval_hazards: $name on $scenario done in $(($(date +%s) - start)) s"
+    echo "eval_hazards: $name on $scenario done in $(($(date +%s) - start)) s$(progress_note)"
   else
     echo "eval_hazards: $name on $scenario failed, see $log" >&2
     tail -n 3 "$log" >&2
@@ -163,9 +165,13 @@ status=0
 if [ "$tables_only" = 0 ]; then
   common="--frames $frames --scale $scale"
   # 1. Sequences (cached).
+  progress_start "$out/.progress/seq" "$(echo $scenarios | wc -w)"
   for s in $scenarios; do printf '%s\0' "$s"; done |
     xargs -0 -n 1 -P "$jobs" "$self" --sim-job "$hazmap" "$out" "$common" || status=1
   # 2. Maps and evaluations: every config on every scenario that has a sequence.
+  n_maps=0
+  for s in $scenarios; do [ -f "$out/seq/$s/.done" ] && n_maps=$((n_maps + ${#configs[@]})); done
+  progress_start "$out/.progress/maps" "$n_maps"
   for i in "${!configs[@]}"; do
     cfg="$(cd "$(dirname "${configs[$i]}")" && pwd)/$(basename "${configs[$i]}")"
     for s in $scenarios; do

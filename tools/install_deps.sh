@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   libopencv-dev libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
-  libgdal-dev gdal-bin
+  libgdal-dev gdal-bin zlib1g-dev
   libgtest-dev libbenchmark-dev
   parallel chromium
   pybind11-dev python3-pybind11 python3-dev python3-numpy  # Python bindings and their tests

@@ -23,6 +23,8 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 self="$repo/tools/sweep.sh"
+# shellcheck source=tools/progress.sh
+. "$repo/tools/progress.sh"
 
 usage() {
   awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$self"
@@ -67,7 +69,7 @@ if [ "${1:-}" = "--job" ]; then
     tail -n 5 "$dir/job.log" >&2
     exit 1
   }
-  echo "sweep: case $case_id done"
+  echo "sweep: case $case_id done$(progress_note)"
   exit 0
 fi
 
@@ -157,6 +159,7 @@ if [ "$summary_only" = 0 ]; then
   if [ -n "$sshlogin" ]; then
     par+=(--sshlogin "$sshlogin" --return "$out/runs/{1}" --cleanup)
   fi
+  progress_start "$out/.progress" "$n_cases"
   "${par[@]}" "$self" --job "$hazmap" "$out" {1} {2} {3} {4} {5} <"$cases" || status=$?
   [ "$status" = 0 ] || echo "sweep: $status case(s) failed; summarising the others" >&2
 fi

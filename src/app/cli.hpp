@@ -66,6 +66,7 @@ int cmd_import_euroc(int argc, char** argv);
 int cmd_ground_truth(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
 int cmd_check(int argc, char** argv);
+int cmd_view(int argc, char** argv);
 
 /// --poses, --pose-frame and --max-pose-gap of an ASL/EuRoC folder (run, import-euroc).
 hazmap::EurocOptions euroc_options(const Args& args);

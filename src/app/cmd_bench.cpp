@@ -7,6 +7,8 @@
 #include <string>
 #include <system_error>
 
+#include <spdlog/spdlog.h>
+
 #include "cli.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/sequence.hpp"
@@ -17,7 +19,7 @@ namespace hazmap::cli {
 namespace {
 const char* kBenchUsage =
     R"(usage: hazmap bench [--config FILE] [--sequence DIR] [--frames N] [--repetitions R]
-                    [--set KEY=VALUE]...
+                    [--set KEY=VALUE]... [--quiet]
 
 Times the real per-frame pipeline (Pipeline::process: rectify, disparity, points, map,
 hazard; images read into memory first, no file output) on the first N frames of a
@@ -32,6 +34,7 @@ median ratio frame / StereoBM.
   --frames N        frames to use (default 2)
   --repetitions R   timed passes over them (default 5)
   --set K=V         override a YAML key, e.g. --set stereo.search=ground_band
+  --quiet           no progress lines; the table still prints (stdout)
 )";
 
 constexpr int kDefaultFrames = 2;
@@ -60,7 +63,8 @@ int cmd_bench(int argc, char** argv) {
     return kExitOk;
   }
   const Args args =
-      parse_args(argc, argv, {"config", "sequence", "frames", "repetitions"}, {});
+      parse_args(argc, argv, {"config", "sequence", "frames", "repetitions"}, {"quiet"});
+  setup_logging("", args.on("quiet"));
   const std::filesystem::path config_path = args.get("config", "config/cadre_full_res.yaml");
   const int frames = positive_int(args, "frames", kDefaultFrames);
   FrameBenchOptions options;
@@ -76,11 +80,9 @@ int cmd_bench(int argc, char** argv) {
   if (sequence_dir.empty()) {
     scratch.path = std::filesystem::temp_directory_path() /
                    ("hazmap_bench_" + std::to_string(std::random_device{}()));
-    std::printf("rendering %d full-resolution frames into %s ...\n", frames,
-                scratch.path.string().c_str());
-    std::fflush(stdout);
+    spdlog::info("rendering {} full-resolution frames into {} ...", frames, scratch.path.string());
     const double seconds = render_bench_sequence(scratch.path, frames, kFullResolution, kRenderSeed);
-    std::printf("rendered in %.1f s\n", seconds);
+    spdlog::info("rendered in {:.1f} s", seconds);
     sequence_dir = scratch.path;
   }
   const Sequence sequence = load_sequence(sequence_dir);

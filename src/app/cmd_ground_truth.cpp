@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include <spdlog/spdlog.h>
+
 #include "cli.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/cloud_ground_truth.hpp"
@@ -14,6 +16,7 @@ namespace {
 const char* kGroundTruthUsage =
     R"(usage: hazmap ground-truth --cloud FILE --out DIR [--resolution R] [--fill-radius M]
                            [--ground-radius M] [--ground-tolerance M] [--crop X0,Y0,X1,Y1]
+                           [--quiet]
 
 Turns a point cloud in the world frame W (a laser scan of the terrain; x y z in metres)
 into the ground truth 'hazmap evaluate' reads: DIR/gt_height.jdem (surface height per
@@ -29,6 +32,7 @@ DIR to score runs of that sequence. Method: docs/ground_truth.md.
                         envelope at this scale (0.15)
   --ground-tolerance M  relief up to M above that envelope is ground (0.003)
   --crop X0,Y0,X1,Y1    only this box of W (default: the cloud's bounding box)
+  --quiet               no summary line (errors and warnings still print)
 )";
 }  // namespace
 
@@ -40,7 +44,7 @@ int cmd_ground_truth(int argc, char** argv) {
   const Args args = parse_args(argc, argv,
                                {"cloud", "out", "resolution", "fill-radius", "ground-radius",
                                 "ground-tolerance", "crop"},
-                               {});
+                               {"quiet"});
   const std::string cloud = args.required("cloud");
   const std::string out = args.required("out");
   CloudGroundTruthOptions options;
@@ -61,7 +65,7 @@ int cmd_ground_truth(int argc, char** argv) {
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }
-  setup_logging("", false);
+  setup_logging("", args.on("quiet"));
   const auto points = read_point_cloud(cloud);
   CloudGroundTruth gt;
   try {
@@ -70,9 +74,9 @@ int cmd_ground_truth(int argc, char** argv) {
     throw Error(cloud + ": " + e.what());  // name the cloud whose extent is at fault
   }
   write_cloud_ground_truth(out, gt, options, cloud);
-  std::printf(
-      "ground truth %d x %d cells of %g m from %zu points: %zu measured, %zu filled, %zu "
-      "unknown, %zu obstacle -> %s\n",
+  spdlog::info(
+      "ground truth {} x {} cells of {} m from {} points: {} measured, {} filled, {} unknown, "
+      "{} obstacle -> {}",
       gt.height.rows, gt.height.cols, options.resolution_m, gt.points, gt.cells_measured,
       gt.cells_filled, gt.cells_unknown, gt.cells_obstacle, out.c_str());
   return kExitOk;

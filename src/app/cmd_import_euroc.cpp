@@ -5,6 +5,8 @@
 #include <cstring>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 #include "cli.hpp"
 #include "hazmap/io/euroc.hpp"
 
@@ -13,7 +15,7 @@ namespace hazmap::cli {
 namespace {
 const char* kImportUsage =
     R"(usage: hazmap import-euroc SRC DST [--poses CSV] [--pose-frame body|left_camera]
-                           [--identity-poses] [--max-pose-gap SECONDS]
+                           [--identity-poses] [--max-pose-gap SECONDS] [--quiet]
 
 Converts an ASL/EuRoC folder (SRC/mav0/cam0|cam1/data/*.png with Kalibr-style
 sensor.yaml) into hazmap's sequence layout in DST: left/, right/ (images copied as they
@@ -25,6 +27,7 @@ left out. ('hazmap stereo' also reads EuRoC folders directly.)
   --pose-frame F     what the CSV poses are: body (default) or left_camera (cam0)
   --identity-poses   no pose file: put every frame at the identity
   --max-pose-gap S   interpolate between pose samples at most S seconds apart (0.1)
+  --quiet            no summary line (errors and warnings still print)
 )";
 }  // namespace
 
@@ -51,12 +54,12 @@ int cmd_import_euroc(int argc, char** argv) {
   }
   if (positional.size() != 2) throw UsageError("import-euroc needs SRC and DST");
   const Args args = parse_args(static_cast<int>(flags.size()), flags.data(), value_flags,
-                               {"identity-poses"});
+                               {"identity-poses", "quiet"});
   hazmap::EurocOptions options = euroc_options(args);
   options.identity_poses = args.on("identity-poses");
-  setup_logging("", false);
+  setup_logging("", args.on("quiet"));
   const size_t frames = hazmap::import_euroc(positional[0], positional[1], options);
-  std::printf("imported %zu frames into %s\n", frames, positional[1].c_str());
+  spdlog::info("imported {} frames into {}", frames, positional[1]);
   return kExitOk;
 }
 

@@ -207,6 +207,7 @@ int cmd_simulate(int argc, char** argv) {
   spdlog::info("simulating scenario '{}' (seed {}, {} frames, scale {}, {} path) into {}",
                options.scenario, options.seed, options.frames, options.scale, options.path.kind,
                out.string());
+  options.log_progress = true;  // frame i/n, rate, time left (silenced by --quiet)
   const sim::SimulationSummary summary = hazmap::sim::simulate_sequence(options, out);
   spdlog::info("done: {} frames of {}x{} px ({} rocks, {} craters) in {}; rendering {:.2f} s "
                "per frame (both cameras)",

@@ -39,6 +39,7 @@ const Command kCommands[] = {
     {"import-euroc", hazmap::cli::cmd_import_euroc, "SRC DST   ASL/EuRoC folder to our layout"},
     {"ground-truth", hazmap::cli::cmd_ground_truth,
      "--cloud FILE --out DIR [--resolution R]   laser scan -> gt_height/gt_hazard"},
+    {"view", hazmap::cli::cmd_view, "RUN [--out FILE]   static HTML page to look at a run (RUN/view.html)"},
     {"bench", hazmap::cli::cmd_bench,
      "[--config FILE] [--sequence DIR] [--frames N] [--repetitions R]   frame timing vs StereoBM"},
 };

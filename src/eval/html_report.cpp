@@ -79,6 +79,41 @@ const char* kViewerScript = R"(
 
 }  // namespace
 
+const char* report_style() { return kStyle; }
+
+std::string script_safe(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    out += text[i];
+    if (text[i] == '<' && i + 1 < text.size() && text[i + 1] == '/') out += '\\';
+  }
+  return out;
+}
+
+std::string render_table(const HtmlTable& t) {
+  std::ostringstream o;
+  o << "<table" << (t.id.empty() ? "" : " id=\"" + html_escape(t.id) + "\"") << ">\n";
+  if (!t.caption.empty()) o << "<caption>" << html_escape(t.caption) << "</caption>\n";
+  o << "<thead><tr>";
+  for (const auto& h : t.header) o << "<th>" << html_escape(h) << "</th>";
+  o << "</tr></thead>\n<tbody>\n";
+  for (const auto& row : t.rows) {
+    o << "<tr>";
+    for (size_t c = 0; c < row.size(); ++c) {
+      const bool link =
+          std::find(t.link_columns.begin(), t.link_columns.end(), c) != t.link_columns.end();
+      if (link && row[c].size() > 5 && row[c].substr(row[c].size() - 5) == ".html")
+        o << "<td><a href=\"" << html_escape(row[c]) << "\">" << html_escape(row[c]) << "</a></td>";
+      else
+        o << "<td>" << html_escape(row[c]) << "</td>";
+    }
+    o << "</tr>\n";
+  }
+  o << "</tbody>\n</table>\n";
+  return o.str();
+}
+
 std::string render_html(const HtmlPage& page) {
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -88,26 +123,7 @@ std::string render_html(const HtmlPage& page) {
   for (const HtmlSection& s : page.sections) {
     o << "<h2>" << html_escape(s.heading) << "</h2>\n";
     if (!s.text.empty()) o << "<p>" << html_escape(s.text) << "</p>\n";
-    for (const HtmlTable& t : s.tables) {
-      o << "<table" << (t.id.empty() ? "" : " id=\"" + html_escape(t.id) + "\"") << ">\n";
-      if (!t.caption.empty()) o << "<caption>" << html_escape(t.caption) << "</caption>\n";
-      o << "<thead><tr>";
-      for (const auto& h : t.header) o << "<th>" << html_escape(h) << "</th>";
-      o << "</tr></thead>\n<tbody>\n";
-      for (const auto& row : t.rows) {
-        o << "<tr>";
-        for (size_t c = 0; c < row.size(); ++c) {
-          const bool link = std::find(t.link_columns.begin(), t.link_columns.end(), c) !=
-                            t.link_columns.end();
-          if (link && row[c].size() > 5 && row[c].substr(row[c].size() - 5) == ".html")
-            o << "<td><a href=\"" << html_escape(row[c]) << "\">" << html_escape(row[c]) << "</a></td>";
-          else
-            o << "<td>" << html_escape(row[c]) << "</td>";
-        }
-        o << "</tr>\n";
-      }
-      o << "</tbody>\n</table>\n";
-    }
+    for (const HtmlTable& t : s.tables) o << render_table(t);
     for (const HtmlFigure& f : s.figures)
       o << "<figure><a href=\"" << html_escape(f.src) << "\"><img src=\"" << html_escape(f.src)
         << "\" alt=\"" << html_escape(f.caption) << "\"></a><figcaption>"

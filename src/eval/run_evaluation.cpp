@@ -10,6 +10,8 @@
 
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
+
+#include "hazmap/core/progress.hpp"
 #include <yaml-cpp/yaml.h>
 
 #include "../pipeline/json_writer.hpp"
@@ -651,6 +653,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   const auto truth_for = [&](const EvaluatedLayer& L) -> const GroundTruth& {
     return L.gt_dilation_m > 0.0 ? dilated.at(L.gt_dilation_m) : gt;
   };
+  const Progress progress(static_cast<int>(ev.frames.size()));
   for (size_t f = 0; f < ev.frames.size(); ++f) {
     const std::string& name = ev.frames[f];
     Pose3d T_map_W = Pose3d::Identity();
@@ -728,7 +731,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       write_png(png, page);
       error_pngs.emplace_back(name, png);
     }
-    spdlog::info("evaluated frame {}/{} {}", f + 1, ev.frames.size(), name);
+    spdlog::info("evaluated frame {} {}", name, progress.step(static_cast<int>(f) + 1));
   }
   write_outputs(options, ev, error_pngs, config);
   return ev;

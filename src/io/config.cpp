@@ -175,6 +175,7 @@ void parse_output(YamlMap m, OutputConfig& o) {
   one_of(m, "format", o.format, {"jdem", "geotiff", "both"});
   m.get("queue_frames", o.queue_frames);
   m.get("png_min_size", o.png_min_size);
+  m.get("png_height_clip_pct", o.png_height_clip_pct);
   m.get("mosaic", o.mosaic);
   m.finish();
 }
@@ -358,6 +359,8 @@ void validate(const Config& c) {
             "must be in [0, " + std::to_string(kMaxOutputQueueFrames) + "] (0: synchronous)");
   if (c.output.png_min_size < 1 || c.output.png_min_size > 8192)
     invalid("output.png_min_size", "must be in [1, 8192]");
+  if (!(c.output.png_height_clip_pct >= 0 && c.output.png_height_clip_pct < 50))
+    invalid("output.png_height_clip_pct", "must be in [0, 50)");
 }
 
 std::string to_yaml(const Config& c) {
@@ -461,6 +464,7 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "format" << YAML::Value << c.output.format
       << YAML::Key << "queue_frames" << YAML::Value << c.output.queue_frames
       << YAML::Key << "png_min_size" << YAML::Value << c.output.png_min_size
+      << YAML::Key << "png_height_clip_pct" << YAML::Value << c.output.png_height_clip_pct
       << YAML::Key << "mosaic" << YAML::Value << c.output.mosaic << YAML::EndMap;
   out << YAML::EndMap;
   return out.c_str();

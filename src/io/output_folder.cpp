@@ -20,10 +20,11 @@ struct OwnFolder {
 
 // Kept in step with what the writers write: sequence_runner.cpp (summary.json),
 // frame_writer.cpp (frames/, mosaic/), cmd_run.cpp and cmd_stereo.cpp (run.log),
-// cmd_stereo.cpp (stereo_summary.json), run_evaluation.cpp (eval/, the default --out).
+// cmd_stereo.cpp (stereo_summary.json), run_evaluation.cpp (eval/, the default --out),
+// run_viewer.cpp (view.html, hazmap view's default --out).
 constexpr OwnFolder kOwnFolders[] = {
     {"frames", Holds::frame_folders}, {"mosaic", Holds::files}, {"eval", Holds::files}};
-constexpr const char* kOwnFiles[] = {"summary.json", "stereo_summary.json", "run.log"};
+constexpr const char* kOwnFiles[] = {"summary.json", "stereo_summary.json", "run.log", "view.html"};
 
 /// How many foreign entries a refusal names before "and N more": enough to recognise
 /// the folder (left, right, poses.txt: a sequence), short enough for one line.

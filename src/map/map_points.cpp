@@ -39,6 +39,24 @@ void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
     for (int i = 0; i < size_; ++i) ccm_weight_[i] = ccm_weight(weighting, cloud[static_cast<std::size_t>(i)]);
 }
 
+MapPoints::Fill MapPoints::begin_fill(std::size_t max_points) {
+  const std::size_t padded = max_points + PointChunk::kPad;
+  for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_, &var_z_})
+    if (v->size() < padded) v->resize(padded, 0.0f);
+  size_ = 0;
+  return {x_.data(), y_.data(), z_.data(), inv_var_z_.data(), var_z_.data(), lateral_var_.data(),
+          ccm_weight_.data()};
+}
+
+void MapPoints::end_fill(int count, bool unit_ccm_weight) {
+  size_ = count;
+  unit_ccm_weight_ = unit_ccm_weight;
+  if (unit_ccm_weight) std::fill(ccm_weight_.begin(), ccm_weight_.begin() + size_, 1.0f);
+  // Chunks read up to kPad floats past the last point: keep them finite and inert.
+  for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_, &var_z_})
+    std::fill(v->begin() + size_, v->begin() + size_ + PointChunk::kPad, 0.0f);
+}
+
 PointChunk MapPoints::chunk(int begin, int count) const {
   PointChunk c;
   c.x = x_.data() + begin;

@@ -155,7 +155,7 @@ void FrameWriter::write_frame(const std::filesystem::path& out_dir, const Output
     throw Error(message);
   }
   if (output.mosaic)
-    write_png(out_dir / "mosaic" / (frame.frame_name + ".png"), render_mosaic(frame));
+    write_png(out_dir / "mosaic" / (frame.frame_name + ".png"), render_mosaic(frame, output.png_height_clip_pct));
 }
 
 }  // namespace hazmap

@@ -12,38 +12,21 @@
 namespace hazmap {
 namespace {
 
-const cv::Vec3b kUnknownBgr(90, 90, 90);
-const cv::Vec3b kTraversableBgr(70, 170, 40);
-const cv::Vec3b kHazardBgr(40, 40, 220);
-const cv::Scalar kRobotColour(255, 255, 255);
-
-int cell_pixels(const DenseGrid& grid, int min_size) {
-  const int side = std::max(grid.rows, grid.cols);
-  return std::max(1, (min_size + side - 1) / side);
-}
-
-void draw_robot(cv::Mat& image, const DenseGrid& grid, int k, double x_m, double y_m) {
-  const double col = (x_m - grid.center_x_m) / grid.resolution_m + grid.cols / 2.0;
-  const double row = (grid.center_y_m - y_m) / grid.resolution_m + grid.rows / 2.0;
-  const cv::Point p(static_cast<int>(std::lround(col * k)), static_cast<int>(std::lround(row * k)));
-  const int arm = std::max(4, image.cols / 64);
-  const int thickness = std::max(1, image.cols / 256);
-  cv::line(image, p - cv::Point(arm, 0), p + cv::Point(arm, 0), kRobotColour, thickness);
-  cv::line(image, p - cv::Point(0, arm), p + cv::Point(0, arm), kRobotColour, thickness);
-}
-
-std::string metres(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.3f m", v);
-  return buf;
-}
-
 /// One grid file in the configured format(s); `stem` without extension.
 void write_grid(const std::filesystem::path& dir, const std::string& stem, const JdemGrid& grid,
                 const OutputConfig& output) {
   if (output.format == "jdem" || output.format == "both") write_jdem(dir / (stem + ".jdem"), grid);
   if (output.format == "geotiff" || output.format == "both")
     write_geotiff(dir / (stem + ".tif"), grid);
+}
+
+RobotMarker frame_robot(const FrameOutputs& frame) {
+  return {frame.robot_x_m, frame.robot_y_m, frame.robot_yaw_rad};
+}
+
+/// "L0 kalman": the panel's name; its footer adds the resolution and extent.
+std::string layer_title(const LayerOutputs& layer, size_t index) {
+  return "L" + std::to_string(index) + " " + rule_name(layer.rule);
 }
 
 /// Copy assignment keeps `to`'s buffer when it is large enough: no allocation per frame.
@@ -57,6 +40,8 @@ void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_na
   into.frame_name = frame_name;
   into.robot_x_m = T_W_B.translation().x();
   into.robot_y_m = T_W_B.translation().y();
+  // Heading: where the body's x axis points in the W plane.
+  into.robot_yaw_rad = std::atan2(T_W_B.linear()(1, 0), T_W_B.linear()(0, 0));
   const auto& views = pipeline.layers();
   into.layers.resize(views.size());
   for (size_t i = 0; i < views.size(); ++i) {
@@ -112,127 +97,60 @@ JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::
   return j;
 }
 
-cv::Mat render_hazard(const DenseGrid& hazard, int min_size, double robot_x_m, double robot_y_m) {
-  const int k = cell_pixels(hazard, min_size);
-  cv::Mat image(hazard.rows * k, hazard.cols * k, CV_8UC3);
-  // Pixel by pixel through row pointers: a setTo on a k x k sub-image per cell cost
-  // ~100 ms for a 512 x 512 grid, most of a frame's PNG time.
-  for (int r = 0; r < hazard.rows; ++r)
-    for (int i = 0; i < k; ++i) {
-      cv::Vec3b* out = image.ptr<cv::Vec3b>(r * k + i);
-      for (int c = 0; c < hazard.cols; ++c) {
-        const auto cls = static_cast<HazardClass>(static_cast<int>(hazard.at(r, c)));
-        const cv::Vec3b colour = cls == HazardClass::hazard        ? kHazardBgr
-                                 : cls == HazardClass::traversable ? kTraversableBgr
-                                                                   : kUnknownBgr;
-        for (int j = 0; j < k; ++j) *out++ = colour;
-      }
-    }
-  draw_robot(image, hazard, k, robot_x_m, robot_y_m);
-  return image;
-}
-
-cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, double robot_y_m) {
-  const int k = cell_pixels(height, min_size);
-  float lo = INFINITY, hi = -INFINITY;
-  for (float v : height.values)
-    if (!std::isnan(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-  const bool any = lo <= hi;
-  if (!any) lo = 0, hi = 0;
-  const double span = hi > lo ? hi - lo : 1.0;
-
-  cv::Mat levels(height.rows, height.cols, CV_8UC1);
-  cv::Mat unknown(height.rows, height.cols, CV_8UC1, cv::Scalar(0));
-  for (int r = 0; r < height.rows; ++r)
-    for (int c = 0; c < height.cols; ++c) {
-      const float v = height.at(r, c);
-      if (std::isnan(v)) {
-        unknown.at<uchar>(r, c) = 255;
-        levels.at<uchar>(r, c) = 0;
-      } else {
-        levels.at<uchar>(r, c) = cv::saturate_cast<uchar>((v - lo) / span * 255.0);
-      }
-    }
-  cv::Mat coloured;
-  cv::applyColorMap(levels, coloured, cv::COLORMAP_VIRIDIS);
-  coloured.setTo(cv::Scalar(kUnknownBgr), unknown);
-  cv::Mat map_image;
-  cv::resize(coloured, map_image, cv::Size(), k, k, cv::INTER_NEAREST);
-  draw_robot(map_image, height, k, robot_x_m, robot_y_m);
-
-  // Colour bar with the metres it spans, to the right of the map.
-  const int bar_w = std::max(16, map_image.cols / 24);
-  const int label_w = 110;
-  const int margin = 12;
-  cv::Mat canvas(map_image.rows, map_image.cols + bar_w + label_w + 2 * margin, CV_8UC3,
-                 cv::Scalar(30, 30, 30));
-  map_image.copyTo(canvas(cv::Rect(0, 0, map_image.cols, map_image.rows)));
-  const int bar_top = margin, bar_h = map_image.rows - 2 * margin;
-  cv::Mat ramp(bar_h, 1, CV_8UC1);
-  for (int i = 0; i < bar_h; ++i)
-    ramp.at<uchar>(i, 0) = cv::saturate_cast<uchar>(255.0 * (bar_h - 1 - i) / std::max(1, bar_h - 1));
-  cv::Mat ramp_colour, ramp_wide;
-  cv::applyColorMap(ramp, ramp_colour, cv::COLORMAP_VIRIDIS);
-  cv::resize(ramp_colour, ramp_wide, cv::Size(bar_w, bar_h), 0, 0, cv::INTER_NEAREST);
-  const int bar_x = map_image.cols + margin;
-  ramp_wide.copyTo(canvas(cv::Rect(bar_x, bar_top, bar_w, bar_h)));
-  const cv::Scalar text(230, 230, 230);
-  const int text_x = bar_x + bar_w + 6;
-  cv::putText(canvas, any ? metres(hi) : "no data", cv::Point(text_x, bar_top + 12),
-              cv::FONT_HERSHEY_SIMPLEX, 0.45, text, 1, cv::LINE_AA);
-  if (any) {
-    cv::putText(canvas, metres((hi + lo) / 2), cv::Point(text_x, bar_top + bar_h / 2 + 4),
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, text, 1, cv::LINE_AA);
-    cv::putText(canvas, metres(lo), cv::Point(text_x, bar_top + bar_h), cv::FONT_HERSHEY_SIMPLEX,
-                0.45, text, 1, cv::LINE_AA);
+cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct) {
+  // Panels at their own size (each labelled, with its scale bar) in a grid: layer i's
+  // hazard above its height, the fused and footprint maps in the last column.
+  constexpr int kPanel = 320, kGap = 8, kTitle = 32;
+  const RobotMarker robot = frame_robot(frame);
+  std::vector<std::vector<cv::Mat>> columns;
+  for (size_t i = 0; i < frame.layers.size(); ++i) {
+    const std::string title = layer_title(frame.layers[i], i);
+    columns.push_back(
+        {render_hazard(frame.layers[i].hazard, kPanel, robot, title + " hazard", kPanel),
+         render_height(frame.layers[i].height, kPanel, robot, title, png_height_clip_pct, kPanel)});
   }
-  return canvas;
-}
-
-cv::Mat render_mosaic(const FrameOutputs& frame) {
-  constexpr int kTile = 320, kTitle = 28, kGap = 8;
-  const auto& views = frame.layers;
-  const double robot_x_m = frame.robot_x_m, robot_y_m = frame.robot_y_m;
-  const int columns = static_cast<int>(views.size()) + 1;
-  cv::Mat canvas(kTitle + 2 * (kTile + kTitle) + kGap, columns * (kTile + kGap) + kGap, CV_8UC3,
-                 cv::Scalar(30, 30, 30));
-  const cv::Scalar text(235, 235, 235);
-  auto place = [&](const cv::Mat& img, int col, int row, const std::string& title) {
-    // Height images carry a colour bar: keep their aspect, fit the tile width.
-    const double s = std::min(double(kTile) / img.cols, double(kTile) / img.rows);
-    cv::Mat scaled;
-    cv::resize(img, scaled, cv::Size(), s, s, cv::INTER_NEAREST);
-    const int x = kGap + col * (kTile + kGap), y = kTitle + row * (kTile + kTitle) + kTitle;
-    scaled.copyTo(canvas(cv::Rect(x, y, scaled.cols, scaled.rows)));
-    cv::putText(canvas, title, cv::Point(x, y - 8), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1,
-                cv::LINE_AA);
-  };
-  cv::putText(canvas, "frame " + frame.frame_name, cv::Point(kGap, 20), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-              text, 1, cv::LINE_AA);
-  for (size_t i = 0; i < views.size(); ++i) {
-    char title[96];
-    std::snprintf(title, sizeof title, "L%zu  %g cm  %s", i, views[i].resolution_m * 100,
-                  rule_name(views[i].rule));
-    place(render_hazard(views[i].hazard, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 0,
-          title);
-    place(render_height(views[i].height, kTile, robot_x_m, robot_y_m), static_cast<int>(i), 1,
-          std::string(title) + "  height");
+  columns.push_back({render_hazard(frame.fused, kPanel, robot, "fused hazard", kPanel),
+                     render_hazard(frame.footprint, kPanel, robot, "footprint", kPanel)});
+  int width = kGap, height = 0;
+  std::vector<int> row_h(2, 0);
+  for (const auto& col : columns) {
+    int w = 0;
+    for (size_t r = 0; r < col.size(); ++r) {
+      w = std::max(w, col[r].cols);
+      row_h[r] = std::max(row_h[r], col[r].rows);
+    }
+    width += w + kGap;
   }
-  place(render_hazard(frame.fused, kTile, robot_x_m, robot_y_m), columns - 1, 0, "fused hazard");
-  place(render_hazard(frame.footprint, kTile, robot_x_m, robot_y_m), columns - 1, 1, "footprint");
+  height = kTitle + row_h[0] + kGap + row_h[1] + kGap;
+  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(30, 30, 30));
+  int x = kGap;
+  for (const auto& col : columns) {
+    int w = 0, y = kTitle;
+    for (size_t r = 0; r < col.size(); ++r) {
+      col[r].copyTo(canvas(cv::Rect(x, y, col[r].cols, col[r].rows)));
+      y += row_h[r] + kGap;
+      w = std::max(w, col[r].cols);
+    }
+    x += w + kGap;
+  }
+  cv::putText(canvas, "frame " + frame.frame_name, cv::Point(kGap, kTitle - 10),
+              cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(235, 235, 235), 1, cv::LINE_AA);
   return canvas;
 }
 
 void write_frame_outputs(const std::filesystem::path& dir, const FrameOutputs& frame,
                          const OutputConfig& output) {
-  const double rx = frame.robot_x_m, ry = frame.robot_y_m;
+  const RobotMarker robot = frame_robot(frame);
+  const int size = output.png_min_size;
   const std::string& name = frame.frame_name;
   for (size_t i = 0; i < frame.layers.size(); ++i) {
     const std::string prefix = "L" + std::to_string(i) + "_";
     const LayerOutputs& v = frame.layers[i];
     if (output.png) {
-      write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, output.png_min_size, rx, ry));
-      write_png(dir / (prefix + "height.png"), render_height(v.height, output.png_min_size, rx, ry));
+      const std::string title = layer_title(v, i);
+      write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, size, robot, title + " hazard"));
+      write_png(dir / (prefix + "height.png"),
+                render_height(v.height, size, robot, title, output.png_height_clip_pct));
     }
     if (output.jdem) {
       write_grid(dir, prefix + "height", to_jdem(v.height, "height", "m", name), output);
@@ -248,9 +166,9 @@ void write_frame_outputs(const std::filesystem::path& dir, const FrameOutputs& f
     }
   }
   if (output.png) {
-    write_png(dir / "fused_hazard.png", render_hazard(frame.fused, output.png_min_size, rx, ry));
+    write_png(dir / "fused_hazard.png", render_hazard(frame.fused, size, robot, "fused hazard"));
     write_png(dir / "footprint_hazard.png",
-              render_hazard(frame.footprint, output.png_min_size, rx, ry));
+              render_hazard(frame.footprint, size, robot, "footprint hazard"));
   }
   if (output.jdem) {
     write_grid(dir, "fused_hazard", to_jdem(frame.fused, "hazard", "class", name), output);

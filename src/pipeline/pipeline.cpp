@@ -56,7 +56,10 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       weighting_(ccm_weighting(config.rules.ccm)),
       layer_map_ms_(config.map.layers.size(), 0.0),
       layer_gates_(config.map.layers.size()),
-      hazards_(resolve_hazard_params(config), config.hazard.incremental) {}
+      hazards_(resolve_hazard_params(config), config.hazard.incremental) {
+  // The axis model's covariance has closed forms for all the map reads: skip the cloud.
+  if (config.sensor.model == "axis") front_.set_map_points_output(weighting_);
+}
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                               const PoseNoise& noise) {
@@ -74,8 +77,11 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   report.ms.rectify_ms = stereo.grey_ms + stereo.rectify_ms;
   report.ms.disparity_ms = stereo.disparity_ms;
   auto t = Clock::now();
-  points_.assign(front_.cloud(), weighting_);
-  report.points = front_.cloud().size();
+  // The axis model's points go straight from the disparities into the map's arrays
+  // (front_.map_points()); the ray model goes through the cloud.
+  const MapPoints& points = front_.map_points_output() ? front_.map_points() : points_;
+  if (!front_.map_points_output()) points_.assign(front_.cloud(), weighting_);
+  report.points = static_cast<std::size_t>(points.size());
   report.points_below_ground = front_.points_below_ground();
   report.points_occluded = front_.points_occluded();
   report.disparities_unsupported = front_.disparities_unsupported();
@@ -84,7 +90,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
   map_.begin_frame(robot.x(), robot.y(), noise);
-  report.updates = map_.insert(points_, layer_map_ms_.data());
+  report.updates = map_.insert(points, layer_map_ms_.data());
   report.ms.map_ms = ms_since(t);
   for (size_t i = 0; i < map_.size(); ++i) {
     layer_gates_[i] = map_.gate_counts(i);

@@ -203,12 +203,16 @@ void add_problems(PreflightReport& r, const Config& config, const PreflightLimit
   const double depth_m = median(near_d);
   if (!config.map.layers.empty() && depth_m < z_near) {
     const auto& l0 = config.map.layers[0];
-    out.push_back(fmt("the nearest ground in view is %.2f m deep (disparity %.0f px), but the "
-                      "search stops at %.0f px or z_min: ground nearer than %.2f m gives no points",
-                      depth_m, median(near_disp), d_max, z_near) +
-                  fmt(" (layer 0's window reaches %.2f m from the body; raise "
-                      "stereo.num_disparities or use stereo.search: ground_band)",
-                      0.5 * l0.size * l0.resolution_m));
+    const bool by_z_min = r.z_min_m >= r.calibration.focal_px * r.calibration.baseline_m / d_max;
+    out.push_back(fmt("the nearest ground in view is %.2f m deep (disparity %.0f px), but ",
+                      depth_m, median(near_disp)) +
+                  (by_z_min ? fmt("stereo.z_min is %.2f m", r.z_min_m)
+                            : fmt("the search stops at %.0f px", d_max)) +
+                  fmt(": ground nearer than %.2f m gives no points (layer 0's window reaches "
+                      "%.2f m from the body; ",
+                      z_near, 0.5 * l0.size * l0.resolution_m) +
+                  (by_z_min ? "lower stereo.z_min)"
+                            : "raise stereo.num_disparities or use stereo.search: ground_band)"));
   }
 
   for (size_t i = 0; i < config.map.layers.size(); ++i) {

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/progress.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"
@@ -36,6 +37,7 @@ struct FrameRecord {
   std::vector<HazardAreas> areas;  ///< per layer, then fused, footprint (written frames only)
   std::vector<double> layer_map_ms;  ///< each layer's share of the insertion
   std::vector<GateCounts> layer_gates;  ///< each layer's SPEC 4 gate drops
+  Pose3d T_W_B = Pose3d::Identity();  ///< the pose the frame was mapped with
 };
 
 /// How the run ended, for the summary.
@@ -137,6 +139,13 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("points_below_ground").value(f.points_below_ground);
     j.key("points_occluded").value(f.points_occluded);
     j.key("disparities_unsupported").value(f.disparities_unsupported);
+    // The pose as given (poses.txt's order: x y z qx qy qz qw), so that the run alone
+    // shows where the rover was (hazmap view draws its path), every frame processed.
+    const Eigen::Quaterniond q(f.T_W_B.linear());
+    const Eigen::Vector3d& t = f.T_W_B.translation();
+    j.key("T_W_B").begin_array();
+    for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) j.value(v);
+    j.end_array();
     j.key("gated").begin_array();  // per layer, SPEC 4
     for (size_t i = 0; i < f.layer_gates.size(); ++i) {
       j.begin_object();
@@ -251,6 +260,7 @@ RunResult SequenceRun::run() {
   };
 
   const int n = static_cast<int>(frames.size());
+  const Progress progress(n);
   int last = -1;  // index of the last frame processed
   bool ground_checked = false;  // the first frame with points is checked for tilt
   for (int i = 0; i < n; ++i) {
@@ -260,6 +270,7 @@ RunResult SequenceRun::run() {
     try {
       FrameRecord rec;
       rec.name = frame.name;
+      rec.T_W_B = frame.pose.T_W_B;
       const auto t = Clock::now();
       const cv::Mat left = read_image(frame.left_path);
       const cv::Mat right = read_image(frame.right_path);
@@ -288,11 +299,11 @@ RunResult SequenceRun::run() {
       result.points_total += report.points;
       ++result.frames_processed;
       spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
-                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f})",
+                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f}); {}",
                    i + 1, n, frame.name, report.points,
                    rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms,
                    report.ms.rectify_ms, report.ms.disparity_ms, report.ms.points_ms,
-                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms);
+                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms, progress.rate(i + 1));
       records.push_back(std::move(rec));
     } catch (const Error& e) {
       // The frames handed to the writer before this one are written whole first.

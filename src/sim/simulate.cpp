@@ -13,6 +13,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "hazmap/core/progress.hpp"
+
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/ground_truth.hpp"
 #include "hazmap/io/atomic_file.hpp"
@@ -500,6 +502,7 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
   summary.height_px = rig.camera.height_px;
   summary.rocks = terrain.rocks().size();
   summary.craters = craters.size();
+  const Progress progress(options.frames);
   for (int k = 0; k < options.frames; ++k) {
     const std::string name = frame_name(k);
     const Pose3d T_W_CL = path[k] * rig.T_B_CL;
@@ -522,7 +525,11 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
             "simulate: TIFF encoding of the depth image failed");
       write_file_atomically(out_dir / "depth" / (name + ".tiff"), bytes);
     }
-    spdlog::debug("simulate: frame {} rendered in {:.2f} s", name, seconds);
+    if (options.log_progress)
+      spdlog::info("simulate: frame {} rendered in {:.1f} s; {}", name, seconds,
+                   progress.step(k + 1));
+    else
+      spdlog::debug("simulate: frame {} rendered in {:.2f} s", name, seconds);
   }
 
   if (options.write_ground_truth) {

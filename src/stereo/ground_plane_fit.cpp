@@ -115,7 +115,7 @@ GroundPlane fit_ground_plane(const PointCloud& cloud, const Eigen::Vector3d& vie
   if (best_n.dot(viewpoint - best_p) < 0.0) best_n = -best_n;
   plane.normal = best_n;
   plane.point = best_p;
-  plane.found = plane.inlier_share >= options.min_inlier_share;
+  plane.found = plane.inlier_share >= options.min_inlier_share && inliers >= options.min_inliers;
   return plane;
 }
 

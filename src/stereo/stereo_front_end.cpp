@@ -1,5 +1,7 @@
 #include "hazmap/stereo/stereo_front_end.hpp"
 
+#include "hazmap/core/error.hpp"
+
 #include <chrono>
 
 #include "hazmap/stereo/ground_band.hpp"
@@ -52,13 +54,38 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   times.disparity_ms = ms_since(t);
 
   t = Clock::now();
+  last_T_W_B_ = T_W_B;
   if (!terrain.empty()) builder_.prepare_terrain(terrain, T_W_B);
-  const PointDrops drops = builder_.build(disparity_, matcher_.invalid_below(), T_W_B, terrain,
-                                         cloud_, keep_pixels_ ? &pixels_ : nullptr);
+  // Occluded pixels leave the disparity image (as unsupported ones do), so that it and a
+  // cloud built later from it hold exactly what reached the map.
+  PointDrops drops;
+  if (map_points_mode_) {
+    drops = builder_.build_map_points(disparity_, matcher_.invalid_below(), T_W_B, terrain,
+                                      weighting_, map_points_, &disparity_);
+    cloud_stale_ = true;
+  } else {
+    drops = builder_.build(disparity_, matcher_.invalid_below(), T_W_B, terrain, cloud_,
+                           keep_pixels_ ? &pixels_ : nullptr, &disparity_);
+  }
   below_ground_ = drops.below_ground;
   occluded_ = drops.occluded;
   times.points_ms = ms_since(t);
   return times;
+}
+
+void StereoFrontEnd::set_map_points_output(CcmWeighting weighting) {
+  if (!builder_.supports_map_points())
+    throw Error("stereo front end: map-points output needs sensor.model axis");
+  map_points_mode_ = true;
+  weighting_ = weighting;
+}
+
+const PointCloud& StereoFrontEnd::cloud() const {
+  if (cloud_stale_) {
+    builder_.build(disparity_, matcher_.invalid_below(), last_T_W_B_, cloud_);
+    cloud_stale_ = false;
+  }
+  return cloud_;
 }
 
 }  // namespace hazmap

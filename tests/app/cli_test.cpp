@@ -104,6 +104,10 @@ TEST(Cli, ProgressShowsFrameCountPointsAndTime) {
   const CommandResult r = run_cli(tiny_run_args(dir));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("frame 1/2 000000: "), std::string::npos) << r.output;
+  // Rate and time left after each frame, the total after the last.
+  EXPECT_NE(r.output.find(" frames/s, "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" left\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" in all\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("frame 2/2 000001: "), std::string::npos);
   EXPECT_NE(r.output.find(" points, "), std::string::npos);
   EXPECT_NE(r.output.find(" ms ("), std::string::npos);
@@ -307,6 +311,25 @@ TEST(Cli, RunReadsAnEurocFolderInPlaceAsImportEurocThenRunWould) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--poses applies to ASL/EuRoC folders"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
+}  // namespace
+}  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+// --quiet is accepted by every subcommand: with an unknown flag after it, the complaint
+// is about that flag, never about --quiet.
+TEST(Cli, EverySubcommandTakesQuiet) {
+  for (const char* command : {"run", "check", "stereo", "simulate", "evaluate", "calibrate",
+                              "ground-truth", "bench", "import-euroc a b"}) {
+    const auto r = testing::run_command(std::string(HAZMAP_CLI) + " " + command +
+                                        " --quiet --bogus 2>&1");
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("unknown option --bogus"), std::string::npos) << command << ": " << r.output;
+    EXPECT_EQ(r.output.find("--quiet"), std::string::npos) << command << ": " << r.output;
+  }
 }
 
 }  // namespace

@@ -1,8 +1,7 @@
 // The run report opens in a real browser: headless Chromium renders report.html from
 // file://, its DOM holds the summary table with the evaluation's numbers, the frame
 // viewer's script ran, and the screenshot is not blank.
-// Needs Debian's `chromium` (tools/install_deps.sh installs it). Without it the test
-// fails with a clear message; HAZMAP_SKIP_BROWSER=1 skips it.
+// Needs Debian's `chromium` (eval/browser.hpp).
 
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/browser.hpp"
 #include "eval/oracle_run.hpp"
 #include "hazmap/eval/run_evaluation.hpp"
 #include "test_support.hpp"
@@ -20,21 +20,12 @@
 namespace hazmap::eval {
 namespace {
 
+using hazmap::testing::chromium_command;
 using hazmap::testing::TempDir;
 
-std::string chromium_command(const std::filesystem::path& profile) {
-  return "timeout 180 chromium --headless --no-sandbox --disable-gpu "
-         "--disable-background-networking --disable-component-update --disable-sync "
-         "--no-first-run --hide-scrollbars --user-data-dir=" +
-         profile.string();
-}
-
 TEST(ReportBrowser, ChromiumShowsTheSummaryTable) {
-  const char* skip = std::getenv("HAZMAP_SKIP_BROWSER");
-  if (skip && std::string(skip) == "1") GTEST_SKIP() << "HAZMAP_SKIP_BROWSER=1";
-  ASSERT_EQ(std::system("command -v chromium > /dev/null 2>&1"), 0)
-      << "chromium not found: install Debian's chromium (tools/install_deps.sh does), or set "
-         "HAZMAP_SKIP_BROWSER=1 to skip this test";
+  if (hazmap::testing::browser_tests_skipped()) GTEST_SKIP() << "HAZMAP_SKIP_BROWSER=1";
+  ASSERT_TRUE(hazmap::testing::chromium_found()) << hazmap::testing::kNoChromium;
 
   TempDir dir;
   hazmap::testing::TestWorld w;

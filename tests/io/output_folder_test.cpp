@@ -23,8 +23,8 @@ void touch(const fs::path& path, const std::string& text = "x\n") {
   std::ofstream(path) << text;
 }
 
-/// An earlier output of every kind: run (with --mosaic), evaluate, stereo, a temporary
-/// left by a killed write, and a frame staged but not yet renamed.
+/// An earlier output of every kind: run (with --mosaic), evaluate, stereo, view, a
+/// temporary left by a killed write, and a frame staged but not yet renamed.
 void write_earlier_output(const fs::path& out) {
   touch(out / "frames/000000/L0_height.jdem");
   touch(out / "frames/.000001.tmp123_4/L0_height.jdem");
@@ -33,6 +33,7 @@ void write_earlier_output(const fs::path& out) {
   touch(out / "summary.json", "{}\n");
   touch(out / "stereo_summary.json", "{}\n");
   touch(out / "run.log");
+  touch(out / "view.html");
   touch(out / ".summary.json.tmp123_7");
 }
 
@@ -54,11 +55,11 @@ TEST(OutputFolder, AnEarlierOutputNeedsOverwriteWhichRemovesAllOfIt) {
   write_earlier_output(out);
   const OutputFolder found = inspect_output_folder(out);
   EXPECT_TRUE(found.foreign.empty());
-  EXPECT_EQ(found.ours.size(), 7u);  // frames, mosaic, eval, 3 files, the temporary
+  EXPECT_EQ(found.ours.size(), 8u);  // frames, mosaic, eval, 4 files, the temporary
   EXPECT_EQ(output_folder_refusal(found, false),
             "--out " + out.string() +
                 ": not empty (an earlier output: .summary.json.tmp123_7, eval, frames, mosaic "
-                "and 3 more); pass --overwrite to replace it, or choose an empty or new folder");
+                "and 4 more); pass --overwrite to replace it, or choose an empty or new folder");
   EXPECT_EQ(output_folder_refusal(found, true), "");
   clear_output_folder(found);
   EXPECT_TRUE(fs::is_directory(out));  // the folder stays, empty

@@ -17,6 +17,7 @@
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/stereo/stereo_front_end.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -168,6 +169,35 @@ TEST(Allocation, HandingAFrameToTheWriterAllocatesNothingOnceWarm) {
   EXPECT_EQ(std::memcmp(slot.layers[0].height.values.data(), held.data(), held.size() * sizeof(float)),
             0);
   EXPECT_NE(slot.layers[0].height.values.data(), pipeline.layers()[0].map.height.values.data());
+}
+
+}  // namespace
+}  // namespace hazmap
+
+namespace hazmap {
+namespace {
+
+// The points stage's direct path (issue 20) writes into MapPoints' arrays, grown once:
+// frames after the first allocate nothing, whichever frame is larger.
+TEST(Allocation, TheDirectPointsStageAllocatesNothingOnceWarm) {
+  const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
+  const Config config = load_config(testing::source_dir() / "config/default.yaml");
+  StereoFrontEnd front(config.stereo, config.sensor, seq.calibration, false);
+  front.set_map_points_output(CcmWeighting::trace);
+  std::vector<cv::Mat> disparities;
+  for (const auto& f : {seq.frames.front(), seq.frames.back()}) {
+    front.process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
+    disparities.push_back(front.disparity_x16().clone());
+  }
+  MapPoints points;
+  const PointCloudBuilder& builder = front.builder();
+  builder.build_map_points(disparities[0], 0, seq.frames[0].pose.T_W_B, CcmWeighting::trace, points);
+  const long before = g_news.load();
+  for (int i = 0; i < 4; ++i)
+    builder.build_map_points(disparities[static_cast<size_t>(i % 2)], 0, seq.frames[0].pose.T_W_B,
+                             CcmWeighting::trace, points);
+  EXPECT_EQ(g_news.load() - before, 0);
+  EXPECT_GT(points.size(), 10000);
 }
 
 }  // namespace

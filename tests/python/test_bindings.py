@@ -213,14 +213,26 @@ class PipelineVsCli(unittest.TestCase):
             assert_same_grid(self, planner.hazard_distance, os.path.join(out, "hazard_distance.jdem"))
 
             # The same points through a LayerStack give the same map: the stack is the
-            # pipeline's map half.
+            # pipeline's map half. The pipeline computes its points in float straight
+            # from the disparities (axis model); points() gives them with double
+            # covariances, so the grids agree to float rounding (positions within 2 um,
+            # variances within 1e-5 relative: tests/stereo/map_points_path_test.cpp).
             points, covariances = pipeline.points()
             self.assertEqual(points.shape, (report["points"], 3))
             stack.insert(points, covariances, robot_xy=frame["T_W_B"][:2, 3])
+            # A gate or a class flips where a statistic sits on its threshold: at most
+            # 0.2 % of a grid's cells may differ by more than that rounding.
             for mine, theirs in zip(stack.layers, pipeline.layers):
                 for name, grid in theirs.grids().items():
-                    np.testing.assert_array_equal(mine.grids()[name], grid, err_msg=name)
-            np.testing.assert_array_equal(stack.planner.fused, planner.fused)
+                    a, b = mine.grids()[name], grid
+                    if name == "hazard" or grid.dtype != np.float32:
+                        differ = np.count_nonzero(a != b)
+                    else:
+                        same = np.isclose(a, b, rtol=1e-4, atol=1e-6, equal_nan=True)
+                        differ = np.count_nonzero(~same)
+                    self.assertLessEqual(differ, max(1, grid.size // 500), name)
+            differ = np.count_nonzero(stack.planner.fused != planner.fused)
+            self.assertLessEqual(differ, max(1, planner.fused.size // 500))
 
 
 class BadInput(unittest.TestCase):
@@ -366,12 +378,24 @@ class Evaluate(unittest.TestCase):
                         self.assertAlmostEqual(value, written[layer["layer"]][key], places=9)
                     else:
                         self.assertEqual(value, written[layer["layer"]][key], key)
-            self.raises_on_missing_ground_truth(run)
+            self.raises_on_missing_ground_truth(run, seq)
 
-    def raises_on_missing_ground_truth(self, run):
+    def raises_on_missing_ground_truth(self, run, seq):
+        # The run's own sequence (same poses, so the fingerprint check passes) without its
+        # ground-truth grids.
+        import shutil
+        bare = seq + "_no_gt"
+        shutil.copytree(seq, bare)
+        for name in os.listdir(bare):
+            if name.startswith("gt_"):
+                os.remove(os.path.join(bare, name))
         with self.assertRaises(hazmap.Error) as caught:
-            hazmap.evaluate(run, SAMPLE, write_report=False)  # data/sample has no GT
+            hazmap.evaluate(run, bare, write_report=False)
         self.assertIn("gt_height.jdem", str(caught.exception))
+        # Another sequence is refused first, by its poses.
+        with self.assertRaises(hazmap.Error) as caught:
+            hazmap.evaluate(run, SAMPLE, write_report=False)
+        self.assertIn("poses fingerprint", str(caught.exception))
 
 
 if __name__ == "__main__":

@@ -88,6 +88,12 @@ TEST(GroundPlaneFit, NotFoundWithoutAPlane) {
   EXPECT_FALSE(fit_ground_plane({}, Eigen::Vector3d::Zero()).found);
   PointCloud two = {point({0, 0, 0}, 0.01), point({1, 0, 0}, 0.01)};
   EXPECT_FALSE(fit_ground_plane(two, Eigen::Vector3d::UnitZ()).found);
+  // 50 points exactly on a plane: too few to call it the ground.
+  PointCloud few;
+  for (int i = 0; i < 50; ++i) few.push_back(point({0.1 * i, 0.37 * (i % 7), 0.0}, 0.01));
+  EXPECT_FALSE(fit_ground_plane(few, Eigen::Vector3d::UnitZ()).found);
+  for (int i = 50; i < 250; ++i) few.push_back(point({0.1 * i, 0.37 * (i % 7), 0.0}, 0.01));
+  EXPECT_TRUE(fit_ground_plane(few, Eigen::Vector3d::UnitZ()).found);
   // A ball of points: no plane holds 20 % of them within 3 sigma.
   std::mt19937 rng(3);
   std::normal_distribution<double> gauss(0.0, 1.0);

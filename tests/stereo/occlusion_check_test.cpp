@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hazmap/map/map_points.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
 
 namespace hazmap {
@@ -235,6 +236,51 @@ TEST(OcclusionCheck, UnseenContinuationOfASeenSurfaceBlocksNearRays) {
   EXPECT_GT(deepest[0], 0.08);  // without the fill the unseen part takes aliased points
   EXPECT_LT(deepest[1], 0.01);
   EXPECT_GT(occluded[1], occluded[0]);
+}
+
+// The pipeline's direct float path applies the same check: on both scenes it drops the
+// same pixels as the cloud path (the ray in float decides no case differently here), keeps
+// the same points, and the marked disparity image gives those points without the terrain.
+TEST(OcclusionCheck, MapPointsPathDropsWhatTheCloudPathDrops) {
+  const Pose3d T_B_C = camera_in_body();
+  for (double x : {0.0, 0.08}) {
+    SCOPED_TRACE(x);
+    Pose3d T_W_B = Pose3d::Identity();
+    T_W_B.translation().x() = x;
+    const Scene scene = render(T_W_B * T_B_C);
+    PublishedTerrain published(x == 0.0 ? 1.0 : 0.1, x == 0.0 ? 1.0 : 0.2);
+    KnownTerrain terrain;
+    terrain.add_layer(published.height, published.variance, published.none, published.none);
+    const StereoConfig stereo = test_stereo();
+    SensorConfig sensor;  // the axis model
+    const PointCloudBuilder builder(stereo, sensor, kGeometry, Eigen::Matrix3d::Identity(),
+                                    T_B_C, cv::Rect(0, 0, kCols, kRows));
+    builder.prepare_terrain(terrain, T_W_B);
+
+    PointCloud cloud;
+    cv::Mat marked_cloud = scene.disparity_x16.clone();
+    const PointDrops by_cloud =
+        builder.build(scene.disparity_x16, 0, T_W_B, terrain, cloud, nullptr, &marked_cloud);
+    MapPoints points;
+    cv::Mat marked = scene.disparity_x16.clone();
+    const PointDrops direct = builder.build_map_points(scene.disparity_x16, 0, T_W_B, terrain,
+                                                       CcmWeighting::constant, points, &marked);
+    ASSERT_GT(by_cloud.occluded, 500u);
+    EXPECT_EQ(direct.occluded, by_cloud.occluded);
+    EXPECT_EQ(direct.below_ground, by_cloud.below_ground);
+    ASSERT_EQ(static_cast<std::size_t>(points.size()), cloud.size());
+    for (int i = 0; i < points.size(); ++i) {
+      const PointChunk c = points.chunk(i, 1);
+      ASSERT_NEAR(c.x[0], cloud[i].p_W.x(), 1e-5);  // float rounding
+      ASSERT_NEAR(c.z[0], cloud[i].p_W.z(), 1e-5);
+    }
+    EXPECT_EQ(cv::countNonZero(marked != marked_cloud), 0);
+    EXPECT_EQ(cv::countNonZero(marked != scene.disparity_x16),
+              static_cast<int>(by_cloud.occluded));
+    PointCloud again;
+    builder.build(marked, 0, T_W_B, again);
+    EXPECT_EQ(again.size(), cloud.size());
+  }
 }
 
 }  // namespace

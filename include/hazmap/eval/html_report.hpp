@@ -50,4 +50,15 @@ std::string html_escape(const std::string& text);
 /// The whole page as one self-contained HTML document.
 std::string render_html(const HtmlPage& page);
 
+/// One table as render_html writes it (<table id=...>, caption, header, rows).
+std::string render_table(const HtmlTable& table);
+
+/// The pages' style sheet (the CSS inside <style>), shared by every hazmap page so that
+/// they look alike.
+const char* report_style();
+
+/// `text` made safe inside a <script> element: every "</" becomes "<\/", which JSON and
+/// JavaScript string literals read back as "</" (only "</script" could end the element).
+std::string script_safe(const std::string& text);
+
 }  // namespace hazmap::eval

@@ -177,6 +177,10 @@ struct OutputConfig {
   /// many are queued. 0: write on the frame loop's thread (synchronous).
   int queue_frames = 2;
   int png_min_size = 512; ///< PNGs are scaled up by whole pixels per cell to at least this
+  /// Height PNGs colour the known cells' percentiles [p, 100 - p] (one wild cell must not
+  /// squash the rest into one colour); the full range is still written under the bar.
+  /// 0: the full range.
+  double png_height_clip_pct = 2.0;
   bool mosaic = false;    ///< also OUT/mosaic/<frame>.png: every layer side by side
 };
 

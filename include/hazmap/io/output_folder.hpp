@@ -14,6 +14,7 @@
 //   summary.json          run
 //   stereo_summary.json   stereo
 //   run.log               run and stereo
+//   view.html             view's default output
 //   .<file>.tmp<...>      an atomic write of one of those files cut short (kill -9)
 // frames/ must hold only folders, mosaic/ and eval/ only files: a "frames" folder of
 // someone's images is not ours.

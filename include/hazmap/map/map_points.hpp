@@ -33,6 +33,17 @@ class MapPoints {
   /// allocation once a frame at least as large has been seen.
   void assign(const PointCloud& cloud, CcmWeighting weighting);
 
+  /// Writable arrays for a producer that computes the fields itself (the points stage's
+  /// direct path, PointCloudBuilder::build_map_points): each holds max_points (+ padding)
+  /// floats. ccm_weight is only read when end_fill says the weights are not all 1.
+  struct Fill {
+    float *x, *y, *z, *inv_var_z, *var_z, *lateral_var, *ccm_weight;
+  };
+  /// Sizes every array for up to `max_points` points (no allocation once grown).
+  Fill begin_fill(std::size_t max_points);
+  /// The first `count` points written through begin_fill's arrays are the frame's.
+  void end_fill(int count, bool unit_ccm_weight);
+
   int size() const { return size_; }
   /// Points [begin, begin + count), count <= PointChunk::kCapacity.
   PointChunk chunk(int begin, int count) const;

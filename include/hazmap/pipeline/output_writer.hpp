@@ -12,6 +12,7 @@
 
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/jdem.hpp"
+#include "hazmap/pipeline/map_render.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 
 namespace hazmap {
@@ -39,6 +40,7 @@ struct LayerOutputs {
 struct FrameOutputs {
   std::string frame_name;
   double robot_x_m = 0.0, robot_y_m = 0.0;
+  double robot_yaw_rad = 0.0;  ///< heading of the body's x axis in W
   std::vector<LayerOutputs> layers;
   DenseGrid fused, clearance, footprint, hazard_distance;
 };
@@ -53,18 +55,10 @@ void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_na
 JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::string& units,
                  const std::string& frame_name);
 
-/// Hazard palette image (unknown 90,90,90; traversable 40,170,70; hazard 220,40,40; BGR
-/// in memory), each cell k x k pixels with k chosen so the image is >= min_size, and the
-/// robot at (x, y) as a small white cross.
-cv::Mat render_hazard(const DenseGrid& hazard, int min_size, double robot_x_m, double robot_y_m);
-
-/// Height image in the viridis colour map with a colour bar labelled in metres;
-/// unknown cells grey.
-cv::Mat render_height(const DenseGrid& height, int min_size, double robot_x_m, double robot_y_m);
-
-/// One image tiling every layer (hazard on top, height below) and the fused hazard map,
-/// each tile titled with layer, resolution and rule, for flipping through a run.
-cv::Mat render_mosaic(const FrameOutputs& frame);
+/// One image tiling every layer's panels (hazard above height, map_render.hpp) and the
+/// fused and footprint maps, each labelled with its resolution, extent and scale bar, for
+/// flipping through a run.
+cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct);
 
 /// Writes every output file of one frame into `frame_dir` (PNGs, and the grids in
 /// output.format: `<name>.jdem` and/or `<name>.tif`), each file atomically.

@@ -114,6 +114,9 @@ struct SimulationOptions {
   std::vector<Crater> extra_craters;  ///< added in every scenario
   RenderOptions render;
   int png_compression = 9;  ///< zlib level 0-9 for the PNG files
+  /// One spdlog info line per rendered frame with rate and time left (the CLI's
+  /// progress); off, the lines go to debug.
+  bool log_progress = false;
 };
 
 /// Throws Error naming the option if it is unusable (frames < 1, scale outside

@@ -27,6 +27,7 @@
 #include "hazmap/core/types.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/known_terrain.hpp"
+#include "hazmap/map/map_points.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
 
@@ -96,10 +97,13 @@ class PointCloudBuilder {
   /// near-field depth f B / search end (set_search_end_by_row), with margin
   /// stereo.occlusion_margin, is dropped and counted in `occluded`. The ray is sampled
   /// every finest terrain cell along its length. A terrain without prepared tops, or
-  /// occlusion_reach 0, checks nothing. `pixels` may be null.
+  /// occlusion_reach 0, checks nothing. `pixels` may be null. `mark_occluded`, when given
+  /// (the disparity image itself, or one of its size), gets invalid_below_x16 at every
+  /// occluded pixel, so that a later build() without the terrain gives the same points.
   PointDrops build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
                    const KnownTerrain& terrain, PointCloud& cloud,
-                   std::vector<cv::Point>* pixels = nullptr) const;
+                   std::vector<cv::Point>* pixels = nullptr,
+                   cv::Mat* mark_occluded = nullptr) const;
 
   /// The disparities searched per rectified row end below `end_px[v]` (exclusive;
   /// DisparityMatcher::search_end_by_row): surfaces nearer than f B / end, the row's near
@@ -122,6 +126,23 @@ class PointCloudBuilder {
   /// on), with stereo.occlusion_fill and 3 sigma. Call before build() with that terrain.
   void prepare_terrain(KnownTerrain& terrain, const Pose3d& T_W_B) const;
 
+  /// The points stage straight into the map's input (issue 20): the same pixels, gates and
+  /// below-ground count as build(), but only the fields the map reads (position, vertical
+  /// and major lateral variance, the CCM weight), in float, with every per-row term
+  /// hoisted out of the pixel loop. The axis model only (supports_map_points()): its
+  /// covariance a I + (b - a) c c^T has closed forms for all of them (c the optical axis
+  /// in W: var_z = a + (b - a) c_z^2, lateral = a + max(b - a, 0)(c_x^2 + c_y^2), trace
+  /// 2a + b, det a^2 b). Throws Error for the ray model. Returns the below-ground count.
+  std::size_t build_map_points(const cv::Mat& disparity_x16, int invalid_below_x16,
+                               const Pose3d& T_W_B, CcmWeighting weighting, MapPoints& out) const;
+  /// As above with the occlusion check of build() against `terrain` (same rule, the
+  /// ray in float), and `mark_occluded` as there.
+  PointDrops build_map_points(const cv::Mat& disparity_x16, int invalid_below_x16,
+                              const Pose3d& T_W_B, const KnownTerrain& terrain,
+                              CcmWeighting weighting, MapPoints& out,
+                              cv::Mat* mark_occluded = nullptr) const;
+  bool supports_map_points() const { return model_ == SensorModel::axis; }
+
   /// Pose of the rectified left camera in the world: T_W_B * T_B_C * R1^T.
   Pose3d rectified_camera_pose(const Pose3d& T_W_B) const;
 
@@ -131,7 +152,16 @@ class PointCloudBuilder {
  private:
   PointDrops build_impl(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
                         const KnownTerrain* terrain, PointCloud& cloud,
-                        std::vector<cv::Point>* pixels) const;
+                        std::vector<cv::Point>* pixels, cv::Mat* mark_occluded) const;
+  PointDrops map_points_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
+                             const Pose3d& T_W_B, const KnownTerrain* terrain,
+                             CcmWeighting weighting, MapPoints& out,
+                             cv::Mat* mark_occluded) const;
+  struct PixelGates;
+  struct OcclusionGate;
+  /// The per-call gates both paths apply, so that they cannot drift apart.
+  PixelGates pixel_gates(const cv::Mat& disparity_x16) const;
+  OcclusionGate occlusion_gate(const KnownTerrain* terrain) const;
   double near_depth_for(int search_end_px) const;
 
   StereoConfig stereo_;

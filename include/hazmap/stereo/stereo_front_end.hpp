@@ -48,8 +48,18 @@ class StereoFrontEnd {
 
   const cv::Mat& rectified_left() const { return rect_left_; }    ///< 8-bit grey
   const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
-  const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
-  const PointCloud& cloud() const { return cloud_; }              ///< world frame
+  /// CV_16S, x16; without the disparities the support and occlusion checks removed.
+  const cv::Mat& disparity_x16() const { return disparity_; }
+  /// World-frame points with covariance. After a frame in map-points mode they are
+  /// built on this first call (from the kept disparity image), not by process().
+  const PointCloud& cloud() const;
+  /// Map-points mode (the mapping pipeline, axis model only): process() fills
+  /// map_points() straight from the disparities (PointCloudBuilder::build_map_points)
+  /// with `weighting`, and cloud() is built only when asked for. Throws Error for the
+  /// ray model.
+  void set_map_points_output(CcmWeighting weighting);
+  bool map_points_output() const { return map_points_mode_; }
+  const MapPoints& map_points() const { return map_points_; }
   /// Points of the last pair dropped as below ground (SPEC 3.3), not in cloud().
   std::size_t points_below_ground() const { return below_ground_; }
   /// Points of the last pair dropped as seen through known terrain, not in cloud().
@@ -72,7 +82,13 @@ class StereoFrontEnd {
   SupportCheck support_;
   PointCloudBuilder builder_;
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_, disparity_;
-  PointCloud cloud_;
+  // Built lazily in map-points mode (cloud() is const to its callers).
+  mutable PointCloud cloud_;
+  mutable bool cloud_stale_ = false;
+  Pose3d last_T_W_B_ = Pose3d::Identity();
+  MapPoints map_points_;
+  bool map_points_mode_ = false;
+  CcmWeighting weighting_ = CcmWeighting::constant;
   std::vector<cv::Point> pixels_;
   int input_bits_ = 8;
   std::size_t below_ground_ = 0;
