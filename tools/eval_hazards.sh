@@ -26,6 +26,8 @@
 #   unk%     obstacle pixels labelled unknown
 #   vv_all%  variance violations over every published height (|h - h_gt| > 3 sigma)
 #   rms_all  height RMS over every published height [cm]
+#   below_cm the deepest published cell height below the ground truth at its centre, over
+#            the frames [cm] (max_below_m; negative: none below)
 # "-" = undefined (no obstacle of that height in view, or a hazard-only map).
 set -euo pipefail
 
@@ -185,8 +187,8 @@ for n in "${names[@]}"; do
   {
     echo
     echo "== $n (pooled over the frames; nrec% within ${near} m of the rover) =="
-    printf '%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s\n' scenario map cell_cm hmin_cm \
-      FA% miss_cm2 miss_c rec% nrec% unk% vv_all% rms_all
+    printf '%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s %8s\n' scenario map cell_cm hmin_cm \
+      FA% miss_cm2 miss_c rec% nrec% unk% vv_all% rms_all below_cm
     for s in $scenarios; do
       csv="$out/$n/$s/eval/summary.csv"
       if [ ! -f "$csv" ]; then
@@ -200,11 +202,12 @@ for n in "${names[@]}"; do
         {
           res = v("resolution_m")
           cells = (v("missed_m2") == "nan" || res == 0) ? "-" : sprintf("%.1f", v("missed_m2") / (res * res))
-          printf "%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s\n", scen, v("layer"),
+          printf "%-8s %-9s %5s %6s %8s %7s %6s %6s %6s %6s %7s %7s %8s\n", scen, v("layer"),
             p(res, 100, "%g"), p(v("h_min_m"), 100, "%.1f"), p(v("false_alarm_fraction"), 100, "%.2f"),
             p(v("missed_m2"), 1e4, "%.1f"), cells, p(v("hazard_recall"), 100, "%.1f"),
             p(v("near_hazard_recall"), 100, "%.1f"), p(v("hazard_unknown"), 100, "%.1f"),
-            p(v("variance_violation_all"), 100, "%.2f"), p(v("height_rms_all_m"), 100, "%.2f")
+            p(v("variance_violation_all"), 100, "%.2f"), p(v("height_rms_all_m"), 100, "%.2f"),
+            p(v("max_below_m"), 100, "%.1f")
         }' "$csv"
     done
   } | tee -a "$tables"

@@ -218,6 +218,7 @@ py::dict report_dict(const FrameReport& r) {
   d["points"] = r.points;
   d["updates"] = r.updates;
   d["points_below_ground"] = r.points_below_ground;
+  d["points_occluded"] = r.points_occluded;
   d["disparities_unsupported"] = r.disparities_unsupported;
   d["gated_std"] = r.gated.std_gate;
   d["gated_consistency"] = r.gated.consistency_gate;
@@ -373,8 +374,8 @@ left, right: numpy uint8 or uint16 images of the calibrated size, H x W grey or
 pose: T_W_B as a 4 x 4 array, or 7 numbers x y z qx qy qz qw (poses.txt's order).
 noise: None, or sx sy sz [m] syaw [rad]: pose noise added since the previous frame
     (used when pose_uncertainty.enabled).
-Returns {points, updates, points_below_ground, disparities_unsupported, gated_std,
-gated_consistency, ms: {rectify, disparity, points, map, hazard, total}}.)");
+Returns {points, updates, points_below_ground, points_occluded, disparities_unsupported,
+gated_std, gated_consistency, ms: {rectify, disparity, points, map, hazard, total}}.)");
   pipeline.def("points", [](const PyPipeline& p) {
     return numpy_from_cloud(p.pipeline().cloud());
   }, "The last frame's points as (N x 3 p_W [m], N x 6 covariance xx xy xz yy yz zz [m^2]), "

@@ -45,11 +45,16 @@ long long Args::whole(const std::string& name, long long lo, long long hi) const
 }
 
 Args parse_args(int argc, char** argv, const std::vector<std::string>& value_flags,
-                const std::vector<std::string>& switch_flags) {
+                const std::vector<std::string>& switch_flags,
+                std::vector<std::string>* positional) {
   Args args;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a.rfind("--", 0) != 0) throw UsageError("unexpected argument '" + a + "'");
+    if (a.rfind("--", 0) != 0) {
+      if (positional == nullptr) throw UsageError("unexpected argument '" + a + "'");
+      positional->push_back(a);
+      continue;
+    }
     std::string name = a.substr(2), value;
     const auto eq = name.find('=');
     const bool inline_value = eq != std::string::npos;

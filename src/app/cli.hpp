@@ -42,9 +42,11 @@ struct Args {
 };
 
 /// Parses argv[2..]. `value_flags` take a value ("set" always does and may repeat);
-/// `switch_flags` take none. Unknown flags are UsageErrors.
+/// `switch_flags` take none. Unknown flags are UsageErrors. Arguments that are not flags
+/// (nor a flag's value) go to `positional` in order, or are UsageErrors without it.
 Args parse_args(int argc, char** argv, const std::vector<std::string>& value_flags,
-                const std::vector<std::string>& switch_flags);
+                const std::vector<std::string>& switch_flags,
+                std::vector<std::string>* positional = nullptr);
 
 /// True when argv holds --help or -h after the command name.
 bool wants_help(int argc, char** argv);

@@ -36,25 +36,10 @@ int cmd_import_euroc(int argc, char** argv) {
     std::fputs(kImportUsage, stdout);
     return kExitOk;
   }
-  // SRC and DST are positional; everything else goes to the shared flag parser.
-  const std::vector<std::string> value_flags{"poses", "pose-frame", "max-pose-gap"};
-  std::vector<char*> flags{argv[0], argv[1]};
   std::vector<std::string> positional;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--", 0) == 0) {
-      flags.push_back(argv[i]);
-      const bool takes_value = a.find('=') == std::string::npos &&
-                               std::find(value_flags.begin(), value_flags.end(), a.substr(2)) !=
-                                   value_flags.end();
-      if (takes_value && i + 1 < argc) flags.push_back(argv[++i]);
-    } else {
-      positional.push_back(a);
-    }
-  }
+  const Args args = parse_args(argc, argv, {"poses", "pose-frame", "max-pose-gap"},
+                               {"identity-poses", "quiet"}, &positional);
   if (positional.size() != 2) throw UsageError("import-euroc needs SRC and DST");
-  const Args args = parse_args(static_cast<int>(flags.size()), flags.data(), value_flags,
-                               {"identity-poses", "quiet"});
   hazmap::EurocOptions options = euroc_options(args);
   options.identity_poses = args.on("identity-poses");
   setup_logging("", args.on("quiet"));

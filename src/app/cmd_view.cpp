@@ -33,20 +33,9 @@ int cmd_view(int argc, char** argv) {
     std::fputs(kViewUsage, stdout);
     return kExitOk;
   }
-  // RUN is positional; --out goes to the shared flag parser.
-  std::vector<char*> flags{argv[0], argv[1]};
   std::vector<std::string> positional;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--", 0) == 0) {
-      flags.push_back(argv[i]);
-      if (a == "--out" && i + 1 < argc) flags.push_back(argv[++i]);
-    } else {
-      positional.push_back(a);
-    }
-  }
+  const Args args = parse_args(argc, argv, {"out"}, {}, &positional);
   if (positional.size() != 1) throw UsageError("view needs one RUN folder");
-  const Args args = parse_args(static_cast<int>(flags.size()), flags.data(), {"out"}, {});
   hazmap::eval::ViewerOptions options;
   options.run_dir = positional[0];
   if (args.has("out")) options.out_file = args.required("out");

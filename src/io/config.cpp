@@ -69,6 +69,9 @@ void parse_stereo(YamlMap m, StereoConfig& s) {
   m.get("max_below_ground", s.max_below_ground_m);
   m.get("below_ground_tolerance", s.below_ground_tolerance_m);
   m.get("max_depression_slope_deg", s.max_depression_slope_deg);
+  m.get("occlusion_reach", s.occlusion_reach);
+  m.get("occlusion_margin", s.occlusion_margin_m);
+  m.get("occlusion_fill", s.occlusion_fill_m);
   m.get("support_rows", s.support_rows);
   m.get("support_tolerance", s.support_tolerance);
   m.get("support_margin_px", s.support_margin_px);
@@ -332,6 +335,12 @@ void validate(const Config& c) {
     invalid("stereo.below_ground_tolerance", "must be in [0, 1000) m");
   if (!(c.stereo.max_depression_slope_deg > 0 && c.stereo.max_depression_slope_deg <= 90))
     invalid("stereo.max_depression_slope_deg", "must be in (0, 90] deg (90: off)");
+  if (!(c.stereo.occlusion_reach >= 0 && c.stereo.occlusion_reach <= 100))
+    invalid("stereo.occlusion_reach", "must be in [0, 100] (0: off)");
+  if (!(c.stereo.occlusion_margin_m >= 0 && c.stereo.occlusion_margin_m < 1e3))
+    invalid("stereo.occlusion_margin", "must be in [0, 1000) m");
+  if (!(c.stereo.occlusion_fill_m >= 0 && c.stereo.occlusion_fill_m <= 10))
+    invalid("stereo.occlusion_fill", "must be in [0, 10] m");
   if (c.stereo.support_rows < 0 || c.stereo.support_rows > 100000)
     invalid("stereo.support_rows", "must be in [0, 100000] pixels (0: off)");
   if (!(c.stereo.support_tolerance >= 0 && c.stereo.support_tolerance < 1))
@@ -384,6 +393,9 @@ std::string to_yaml(const Config& c) {
       << YAML::Key << "max_below_ground" << YAML::Value << s.max_below_ground_m
       << YAML::Key << "below_ground_tolerance" << YAML::Value << s.below_ground_tolerance_m
       << YAML::Key << "max_depression_slope_deg" << YAML::Value << s.max_depression_slope_deg
+      << YAML::Key << "occlusion_reach" << YAML::Value << s.occlusion_reach
+      << YAML::Key << "occlusion_margin" << YAML::Value << s.occlusion_margin_m
+      << YAML::Key << "occlusion_fill" << YAML::Value << s.occlusion_fill_m
       << YAML::Key << "support_rows" << YAML::Value << s.support_rows
       << YAML::Key << "support_tolerance" << YAML::Value << s.support_tolerance
       << YAML::Key << "support_margin_px" << YAML::Value << s.support_margin_px

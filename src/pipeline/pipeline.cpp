@@ -64,7 +64,16 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                               const PoseNoise& noise) {
   FrameReport report;
-  const StereoTimes stereo = front_.process(left, right, T_W_B);
+  // The terrain the finest layer published after the previous frame, for the occlusion
+  // check. Only the finest: coarser cells are too coarse for rays a few centimetres from
+  // the lens, and where the finest layer knows nothing (under the rover) neither
+  // does a coarse cell's mean.
+  terrain_.clear();
+  if (!hazards_.layers().empty()) {
+    const LayerGrids& finest = hazards_.layers().front().map;
+    terrain_.add_layer(finest.height, finest.variance, finest.slope_x, finest.slope_y);
+  }
+  const StereoTimes stereo = front_.process(left, right, T_W_B, terrain_);
   report.ms.rectify_ms = stereo.grey_ms + stereo.rectify_ms;
   report.ms.disparity_ms = stereo.disparity_ms;
   auto t = Clock::now();
@@ -74,6 +83,7 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   if (!front_.map_points_output()) points_.assign(front_.cloud(), weighting_);
   report.points = static_cast<std::size_t>(points.size());
   report.points_below_ground = front_.points_below_ground();
+  report.points_occluded = front_.points_occluded();
   report.disparities_unsupported = front_.disparities_unsupported();
   report.ms.points_ms = stereo.points_ms + ms_since(t);
 

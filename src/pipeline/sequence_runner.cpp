@@ -28,6 +28,7 @@ struct FrameRecord {
   std::string name;
   size_t points = 0;
   size_t points_below_ground = 0;  ///< SPEC 3.3, not in `points`
+  size_t points_occluded = 0;      ///< seen through known terrain, not in `points`
   size_t disparities_unsupported = 0;
   double read_ms = 0;
   double write_ms = 0;  ///< the loop's share: copying out the grids (+ waiting for a slot)
@@ -66,12 +67,13 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("config").value(options.config_path.string());
   j.key("frames_selected").value(frames_total);
   j.key("frames_processed").value(frames.size());
-  size_t points = 0, below_ground = 0, unsupported = 0;
+  size_t points = 0, below_ground = 0, occluded = 0, unsupported = 0;
   StageTimes sum;
   double read = 0, write = 0;
   for (const auto& f : frames) {
     points += f.points;
     below_ground += f.points_below_ground;
+    occluded += f.points_occluded;
     unsupported += f.disparities_unsupported;
     sum.rectify_ms += f.ms.rectify_ms;
     sum.disparity_ms += f.ms.disparity_ms;
@@ -83,6 +85,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   }
   j.key("points_total").value(points);
   j.key("points_below_ground_total").value(below_ground);
+  j.key("points_occluded_total").value(occluded);
   j.key("disparities_unsupported_total").value(unsupported);
   const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
   j.key("mean_ms_per_frame").begin_object();
@@ -134,6 +137,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("name").value(f.name);
     j.key("points").value(f.points);
     j.key("points_below_ground").value(f.points_below_ground);
+    j.key("points_occluded").value(f.points_occluded);
     j.key("disparities_unsupported").value(f.disparities_unsupported);
     // The pose as given (poses.txt's order: x y z qx qy qz qw), so that the run alone
     // shows where the rover was (hazmap view draws its path), every frame processed.
@@ -287,6 +291,7 @@ RunResult SequenceRun::run() {
       rec.ms = report.ms;
       rec.layer_map_ms = pipeline.layer_map_ms();
       rec.points_below_ground = report.points_below_ground;
+      rec.points_occluded = report.points_occluded;
       rec.disparities_unsupported = report.disparities_unsupported;
       rec.layer_gates = pipeline.layer_gates();
 

@@ -104,6 +104,17 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& 
   searched_num_ = std::max(16, band_->end_searched() - band_->min_searched());
 }
 
+std::vector<int> DisparityMatcher::search_end_by_row(int rows) const {
+  std::vector<int> end(static_cast<size_t>(std::max(rows, 0)), searched_min_ + searched_num_);
+  if (band_) {
+    std::fill(end.begin(), end.end(), 0);
+    for (const BandStrip& s : band_->strips())
+      for (int v = std::max(s.row0, 0); v < std::min(s.row1, rows); ++v)
+        end[static_cast<size_t>(v)] = s.num_disparities > 0 ? s.min_disparity + s.num_disparities : 0;
+  }
+  return end;
+}
+
 DisparityMatcher::~DisparityMatcher() = default;
 DisparityMatcher::DisparityMatcher(DisparityMatcher&&) noexcept = default;
 DisparityMatcher& DisparityMatcher::operator=(DisparityMatcher&&) noexcept = default;

@@ -27,10 +27,18 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
       support_(stereo.support_rows, stereo.support_tolerance, stereo.support_margin_px),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),
-      keep_pixels_(keep_pixels) {}
+      keep_pixels_(keep_pixels) {
+  builder_.set_search_end_by_row(matcher_.search_end_by_row(rectifier_.image_size().height));
+}
 
 StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
                                     const Pose3d& T_W_B) {
+  KnownTerrain none;
+  return process(left, right, T_W_B, none);
+}
+
+StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
+                                    const Pose3d& T_W_B, KnownTerrain& terrain) {
   StereoTimes times;
   auto t = Clock::now();
   input_bits_ = grey_.convert(left, right, grey_left_, grey_right_);
@@ -47,15 +55,20 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
 
   t = Clock::now();
   last_T_W_B_ = T_W_B;
+  if (!terrain.empty()) builder_.prepare_terrain(terrain, T_W_B);
+  // Occluded pixels leave the disparity image (as unsupported ones do), so that it and a
+  // cloud built later from it hold exactly what reached the map.
+  PointDrops drops;
   if (map_points_mode_) {
-    below_ground_ = builder_.build_map_points(disparity_, matcher_.invalid_below(), T_W_B,
-                                              weighting_, map_points_);
+    drops = builder_.build_map_points(disparity_, matcher_.invalid_below(), T_W_B, terrain,
+                                      weighting_, map_points_, &disparity_);
     cloud_stale_ = true;
   } else {
-    below_ground_ = keep_pixels_ ? builder_.build(disparity_, matcher_.invalid_below(), T_W_B,
-                                                  cloud_, pixels_)
-                                 : builder_.build(disparity_, matcher_.invalid_below(), T_W_B, cloud_);
+    drops = builder_.build(disparity_, matcher_.invalid_below(), T_W_B, terrain, cloud_,
+                           keep_pixels_ ? &pixels_ : nullptr, &disparity_);
   }
+  below_ground_ = drops.below_ground;
+  occluded_ = drops.occluded;
   times.points_ms = ms_since(t);
   return times;
 }

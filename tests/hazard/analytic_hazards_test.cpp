@@ -300,6 +300,52 @@ TEST(AnalyticHazards, RockTopIsAHazardWhenTheGroundAroundIsOnlyPartlySeen) {
   EXPECT_GT(ground_cells, 1000);
 }
 
+TEST(AnalyticHazards, FewPointsOnARockTopAreStepEvidenceAndFewOnGroundProveNothing) {
+  // A 6 cm block with an 18 cm top, the ground around it fully seen, the top seen by a
+  // few points per 4 cm cell only (fewer than min_points: no plane test runs there), as
+  // a rock's top from a low camera. The cells' mean heights stand 6 cm above the ring:
+  // hazard. The same sparse sampling on flat ground far away is neither hazard nor
+  // traversable.
+  const Config config = analytic_config({{RuleKind::ccm, 0.04}});
+  const double xc = 0.3, yc = 0.1, half = 0.09;
+  const auto on_top = [&](double x, double y) {
+    return std::abs(x - xc) < half && std::abs(y - yc) < half;
+  };
+  const auto sparse_patch = [](double x, double y) {
+    return x > -0.8 && x < -0.4 && y > -0.8 && y < -0.4;
+  };
+  // About 4 of a cell's 400 grid points (2 mm spacing, jittered), near its centre.
+  const auto few = [](double x, double y) {
+    return std::abs(std::fmod(x + 10.0, 0.04) - 0.02) < 0.002 &&
+           std::abs(std::fmod(y + 10.0, 0.04) - 0.02) < 0.002;
+  };
+  const Visible visible = [&](double x, double y) {
+    return (on_top(x, y) || sparse_patch(x, y)) ? few(x, y) : true;
+  };
+  const auto views = map_surface(
+      config, [&](double x, double y) { return on_top(x, y) ? 0.06 : 0.0; }, 1.4, 0.002, 0.001, 7,
+      visible);
+  const DenseGrid& h = views[0].hazard;
+  const LayerGrids& g = views[0].map;
+  const int min_points = resolve_hazard_params(config).layers[0].min_points;
+  int top_cells = 0, sparse_ground = 0;
+  for (int r = 0; r < h.rows; ++r)
+    for (int c = 0; c < h.cols; ++c) {
+      const double x = h.x_of_col(c), y = h.y_of_row(r);
+      if (std::isnan(g.height.at(r, c)) || g.count.at(r, c) >= min_points) continue;
+      // Cells wholly on the top or in the patch (their edges hold other points).
+      if (std::abs(x - xc) < half - 0.02 && std::abs(y - yc) < half - 0.02) {
+        ++top_cells;
+        EXPECT_EQ(h.at(r, c), float(HazardClass::hazard)) << x << " " << y;
+      } else if (x > -0.78 && x < -0.42 && y > -0.78 && y < -0.42) {
+        ++sparse_ground;
+        EXPECT_EQ(h.at(r, c), float(HazardClass::unknown)) << x << " " << y;
+      }
+    }
+  EXPECT_GE(top_cells, 4);
+  EXPECT_GE(sparse_ground, 60);
+}
+
 TEST(AnalyticHazards, RingSampleOnACellThatIsNotEvaluableComesFromItsNeighboursPlane) {
   // A tilted plane on the 4 cm layer; the cell [0.12, 0.16) x [0.04, 0.08) is seen in one
   // corner only (not evaluable): a sample at its centre is its evaluable neighbour's

@@ -92,6 +92,27 @@ TEST(Config, ImpossibleValuesAreNamed) {
   EXPECT_NE(config_error(std::string(kMinimal) + "sensor: {model: cone}\n")
                 .find("'sensor.model': 'cone' is not one of axis | ray"),
             std::string::npos);
+  for (const char* bad : {"occlusion_reach: -1", "occlusion_margin: -0.01", "occlusion_fill: 11"}) {
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(':'));
+    EXPECT_NE(config_error(std::string(kMinimal) + "stereo: {" + bad + "}\n")
+                  .find("'stereo." + key + "'"),
+              std::string::npos)
+        << bad;
+  }
+}
+
+TEST(Config, OcclusionKeysHaveDefaultsAndRoundTrip) {
+  const Config c = parse_config(kMinimal, "t");
+  EXPECT_DOUBLE_EQ(c.stereo.occlusion_reach, 2.0);
+  EXPECT_DOUBLE_EQ(c.stereo.occlusion_margin_m, 0.01);
+  EXPECT_DOUBLE_EQ(c.stereo.occlusion_fill_m, 0.03);
+  const Config set = parse_config(kMinimal, "t",
+                                  {"stereo.occlusion_reach=0", "stereo.occlusion_margin=0.02",
+                                   "stereo.occlusion_fill=0"});
+  const Config again = parse_config(to_yaml(set), "dump");
+  EXPECT_EQ(again.stereo.occlusion_reach, 0.0);
+  EXPECT_DOUBLE_EQ(again.stereo.occlusion_margin_m, 0.02);
+  EXPECT_EQ(again.stereo.occlusion_fill_m, 0.0);
 }
 
 TEST(Config, SetOverridesNestedKeysAndListElements) {

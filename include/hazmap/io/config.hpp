@@ -51,6 +51,24 @@ struct StereoConfig {
   /// slope >= 90 disables it, as does max_below_ground <= 0.
   double below_ground_tolerance_m = 0.05;
   double max_depression_slope_deg = 45.0;
+  /// Ours, also SPEC 3.3's impossible points: a pixel whose ray, on its way to the point,
+  /// passes more than occlusion_margin + 3 sigma below the terrain the map has already
+  /// published (the previous frame's heights and variances) sees that terrain, not the
+  /// point: a mismatch, dropped and counted. Typically a surface nearer than the disparity
+  /// search reaches, aliased to a smaller disparity, which puts the point far along its
+  /// ray, inside the rock it looked at. Rays are followed out to occlusion_reach times the
+  /// nearest depth the search reaches in the pixel's row, f B / (highest disparity
+  /// searched), which bounds the cost; 0 disables the check. Needs a map: `hazmap stereo`
+  /// and `hazmap check` run without it.
+  double occlusion_reach = 2.0;
+  double occlusion_margin_m = 0.01;
+  /// In the near field a ray must also stay above terrain not yet seen next to seen
+  /// terrain: a cell nobody knows counts as high as the highest known cell within this
+  /// distance [m], rounded up to whole cells of the finest layer (0: unseen cells block
+  /// nothing). Default: the smallest hazard's width (SPEC 11), the least an obstacle seen
+  /// up to its edge extends beyond it. The hidden far side of a rock the cameras pass
+  /// over is unseen, and it is nearer than the search reaches.
+  double occlusion_fill_m = 0.03;
   /// Unsupported disparities (support_check.hpp): a pixel much nearer than most of what
   /// lies within support_rows below it in its column floats and is dropped (counted);
   /// 0 disables the check. Farther: disparity < d (1 - support_tolerance) - margin.

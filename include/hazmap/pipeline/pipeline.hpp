@@ -29,6 +29,8 @@ struct FrameReport {
   size_t updates = 0;      ///< point-into-layer updates
   /// Points dropped as below ground (SPEC 3.3), not in `points`.
   size_t points_below_ground = 0;
+  /// Points dropped as seen through the terrain the map knew (stereo.occlusion_*).
+  size_t points_occluded = 0;
   /// Disparities removed as unsupported (floating mismatches), before points.
   size_t disparities_unsupported = 0;
   /// Points the SPEC 4 gates dropped, summed over layers (a point counts once per layer
@@ -75,6 +77,7 @@ class Pipeline {
   LayerStack map_;
   CcmWeighting weighting_;
   MapPoints points_;  ///< the frame's points as the map reads them
+  KnownTerrain terrain_;  ///< views of the last frame's exported heights (hazards_)
   std::vector<double> layer_map_ms_;
   std::vector<GateCounts> layer_gates_;
   HazardStage hazards_;

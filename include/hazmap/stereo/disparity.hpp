@@ -12,6 +12,7 @@
 // terrain can produce there instead (band_matcher.hpp), strips in parallel.
 
 #include <memory>
+#include <vector>
 
 #include <opencv2/calib3d.hpp>
 
@@ -67,6 +68,11 @@ class DisparityMatcher {
   int num_disparities() const { return searched_num_; }
   /// The strip matcher of `search: ground_band`, nullptr for a full search.
   const BandMatcher* band() const { return band_.get(); }
+  /// Per image row (`rows` of them), the end of the disparities searched there (exclusive,
+  /// px): min_disparity + num_disparities for a full search, the row's strip's end for
+  /// ground_band (0 where a strip searches nothing). A surface nearer than f B / end
+  /// cannot be matched in that row.
+  std::vector<int> search_end_by_row(int rows) const;
 
  private:
   cv::Ptr<cv::StereoMatcher> matcher_;

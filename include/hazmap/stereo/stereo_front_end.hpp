@@ -40,10 +40,16 @@ class StereoFrontEnd {
   /// Runs one pair (8/16-bit, grey or colour, the calibrated size) taken at body pose
   /// T_W_B. Results stay valid until the next call. Throws Error on a bad image.
   StereoTimes process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B);
+  /// The same, dropping points seen through `terrain` (the map's published terrain in W;
+  /// PointCloudBuilder::build, stereo.occlusion_*), whose tops it prepares for this pose
+  /// first (PointCloudBuilder::prepare_terrain).
+  StereoTimes process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
+                      KnownTerrain& terrain);
 
   const cv::Mat& rectified_left() const { return rect_left_; }    ///< 8-bit grey
   const cv::Mat& rectified_right() const { return rect_right_; }  ///< 8-bit grey
-  const cv::Mat& disparity_x16() const { return disparity_; }     ///< CV_16S, x16
+  /// CV_16S, x16; without the disparities the support and occlusion checks removed.
+  const cv::Mat& disparity_x16() const { return disparity_; }
   /// World-frame points with covariance. After a frame in map-points mode they are
   /// built on this first call (from the kept disparity image), not by process().
   const PointCloud& cloud() const;
@@ -56,6 +62,8 @@ class StereoFrontEnd {
   const MapPoints& map_points() const { return map_points_; }
   /// Points of the last pair dropped as below ground (SPEC 3.3), not in cloud().
   std::size_t points_below_ground() const { return below_ground_; }
+  /// Points of the last pair dropped as seen through known terrain, not in cloud().
+  std::size_t points_occluded() const { return occluded_; }
   /// Disparities of the last pair removed as unsupported (support_check.hpp).
   std::size_t disparities_unsupported() const { return unsupported_; }
   /// Rectified left pixel of each point of cloud().
@@ -84,6 +92,7 @@ class StereoFrontEnd {
   std::vector<cv::Point> pixels_;
   int input_bits_ = 8;
   std::size_t below_ground_ = 0;
+  std::size_t occluded_ = 0;
   std::size_t unsupported_ = 0;
   bool keep_pixels_ = true;
 };
