@@ -2,7 +2,7 @@
 // ../shared/data/middlebury/README_SOURCE.txt). The matchers run with the shipped
 // settings (config/default.yaml; only the disparity range widened to cover each scene)
 // on the colour images as they come, through the same grey conversion as the pipeline.
-// Figures must not get worse than those recorded in README.md ("Stereo front end").
+// Figures must not get worse than those recorded in docs/stereo.md ("Stereo front end").
 
 #include <cmath>
 #include <cstdio>
@@ -71,8 +71,8 @@ Quality evaluate(const cv::Mat& disparity_x16, int invalid_below, const cv::Mat&
 struct SceneCase {
   const char* scene;
   const char* matcher;
-  double max_bad_rate;  ///< README figure (rounded up)
-  double min_density;   ///< README figure (rounded down)
+  double max_bad_rate;  ///< docs/stereo.md figure (rounded up)
+  double min_density;   ///< docs/stereo.md figure (rounded down)
 };
 
 void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.scene << " " << c.matcher; }

@@ -17,7 +17,7 @@
 //                                               which every larger radius is found
 //   craters_rms.csv, craters_rms.png            height RMS by layer and cell size
 //   drift.csv, drift_missed_<map>.png, drift_false_alarm_<map>.png   layers against drift
-//   tables.md                                   every table in Markdown (for the README)
+//   tables.md                                   every table in Markdown (for docs/evaluation.md)
 //   report.html                                 all of it on one static page
 
 #include <filesystem>
