@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli.hpp"
+#include "hazmap/io/output_folder.hpp"
 #include "hazmap/sim/simulate.hpp"
 
 namespace hazmap::cli {
@@ -60,6 +61,13 @@ Cameras and rendering:
 Outputs:
   --ground-truth         gt_height.jdem and gt_hazard.jdem over the path +- --gt-margin M (2)
   --depth                depth/<name>.tiff: float32 Z [m] in the left camera, NaN sky
+  --overwrite            DIR may hold an earlier hazmap simulate output: left/, right/,
+                         depth/, calibration.yaml, simulation.yaml, poses.txt,
+                         poses_true.txt, gt_height.jdem, gt_hazard.jdem. They are removed
+                         (after every option is checked) before the first file is written,
+                         so no file of the earlier sequence survives. DIR must otherwise be
+                         absent or empty; a folder holding anything else (or a sequence
+                         without simulation.yaml) is refused and left untouched.
   --quiet
 )";
 
@@ -140,7 +148,8 @@ int cmd_simulate(int argc, char** argv) {
        "crater-density", "crater-radius", "crater-sizes", "crater-exponent", "crater-box",
        "crater-depth", "crater-rim", "path", "waypoint-spacing", "max-turn-deg", "wheelbase",
        "track", "drift", "drift-direction-deg", "distortion", "misalignment"},
-      {"ground-truth", "no-sun", "quiet", "depth", "scatter-rocks", "distort", "misalign"});
+      {"ground-truth", "no-sun", "quiet", "depth", "scatter-rocks", "distort", "misalign",
+       "overwrite"});
   hazmap::sim::SimulationOptions options;
   options.scenario = args.get("scenario", options.scenario);
   const std::filesystem::path out = args.required("out");
@@ -203,12 +212,20 @@ int cmd_simulate(int argc, char** argv) {
     options.rig_errors.misalignment_m = Eigen::Vector3d(m[3], m[4], m[5]);
   }
 
+  // Files of two sequences never mix in one folder (a stale poses_true.txt would be read
+  // as this sequence's true poses): the rule of hazmap run's OUT, for what simulate writes.
+  const hazmap::OutputFolder out_folder =
+      hazmap::inspect_output_folder(out, hazmap::OutputOwner::simulate);
+  const std::string refusal = hazmap::output_folder_refusal(out_folder, args.on("overwrite"));
+  if (!refusal.empty()) throw UsageError(refusal);
+
   setup_logging({}, args.on("quiet"));
   spdlog::info("simulating scenario '{}' (seed {}, {} frames, scale {}, {} path) into {}",
                options.scenario, options.seed, options.frames, options.scale, options.path.kind,
                out.string());
   options.log_progress = true;  // frame i/n, rate, time left (silenced by --quiet)
-  const sim::SimulationSummary summary = hazmap::sim::simulate_sequence(options, out);
+  const sim::SimulationSummary summary = hazmap::sim::simulate_sequence(
+      options, out, [&] { hazmap::clear_output_folder(out_folder); });  // every check passed
   spdlog::info("done: {} frames of {}x{} px ({} rocks, {} craters) in {}; rendering {:.2f} s "
                "per frame (both cameras)",
                summary.frames, summary.width_px, summary.height_px, summary.rocks,

@@ -258,10 +258,25 @@ Sequence load_euroc_sequence(const fs::path& dir, const EurocOptions& options) {
   return seq;
 }
 
-size_t import_euroc(const fs::path& src, const fs::path& dst, const EurocOptions& options) {
+size_t import_euroc(const fs::path& src, const fs::path& dst, const EurocOptions& options,
+                    const std::function<void()>& before_writing) {
   const Sequence seq = load_euroc_sequence(src, options);
   std::string poses = "# name t x y z qx qy qz qw   (T_W_B; imported from EuRoC " +
                       seq.dir.string() + ")\n";
+  for (const SequenceFrame& f : seq.frames) {
+    const Eigen::Quaterniond q(f.pose.T_W_B.linear());
+    const Eigen::Vector3d p = f.pose.T_W_B.translation();
+    poses += f.name + " " + fixed(f.pose.t_s, "%.9f");
+    for (double v : {p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()}) poses += " " + fixed(v, "%.17g");
+    poses += "\n";
+  }
+  // SRC is read and checked: only now may the caller clear an earlier import (--overwrite).
+  if (before_writing) before_writing();
+  // poses.txt first: its first line marks DST as an import, even one stopped early.
+  write_file_atomically(dst / "poses.txt", poses);
+  save_stereo_calibration(dst / "calibration.yaml", seq.calibration,
+                          "imported from EuRoC " + seq.dir.string() +
+                              " (cam0 = left, cam1 = right; body = EuRoC's IMU frame)");
   for (const SequenceFrame& f : seq.frames) {
     const auto bytes = [](const fs::path& p) {
       const std::string text = read_text(p, "image");
@@ -269,16 +284,7 @@ size_t import_euroc(const fs::path& src, const fs::path& dst, const EurocOptions
     };
     write_file_atomically(dst / "left" / (f.name + ".png"), bytes(f.left_path));
     write_file_atomically(dst / "right" / (f.name + ".png"), bytes(f.right_path));
-    const Eigen::Quaterniond q(f.pose.T_W_B.linear());
-    const Eigen::Vector3d p = f.pose.T_W_B.translation();
-    poses += f.name + " " + fixed(f.pose.t_s, "%.9f");
-    for (double v : {p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()}) poses += " " + fixed(v, "%.17g");
-    poses += "\n";
   }
-  save_stereo_calibration(dst / "calibration.yaml", seq.calibration,
-                          "imported from EuRoC " + seq.dir.string() +
-                              " (cam0 = left, cam1 = right; body = EuRoC's IMU frame)");
-  write_file_atomically(dst / "poses.txt", poses);
   return seq.frames.size();
 }
 

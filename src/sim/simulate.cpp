@@ -467,7 +467,8 @@ std::vector<Pose3d> reported_path(const SimulationOptions& options,
 }
 
 SimulationSummary simulate_sequence(const SimulationOptions& options,
-                                    const std::filesystem::path& out_dir) {
+                                    const std::filesystem::path& out_dir,
+                                    const std::function<void()>& before_writing) {
   validate(options);
   const Seeds seeds = derive_seeds(options.seed);
   const Terrain terrain = make_simulation_terrain(options);
@@ -488,13 +489,35 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
                 options.scenario, options.seed, options.frames, rig.camera.width_px,
                 rig.camera.height_px, terrain.rocks().size(), craters.size(), out_dir.string());
 
-  write_file_atomically(out_dir / "calibration.yaml", calibration_yaml(rig, options.scale));
-  write_file_atomically(out_dir / "poses.txt", poses_txt(options, reported, false, drift));
-  if (drift) write_file_atomically(out_dir / "poses_true.txt", poses_txt(options, path, true, false));
+  // The ground truth's grid (its size checked) before anything is written; its values
+  // are filled at the end.
+  JdemGrid gt_grid;
+  if (options.write_ground_truth) {
+    std::vector<PathPoint> true_points;
+    for (const Pose3d& T_W_B : path) {
+      PathPoint point;
+      point.p_W = T_W_B.translation().head<2>();
+      true_points.push_back(point);
+    }
+    Eigen::Vector2d lo, hi;
+    path_bounds(true_points, lo, hi);
+    const double m = options.ground_truth_margin_m;
+    gt_grid = aligned_ground_truth_grid("height", lo.x() - m, hi.x() + m, lo.y() - m,
+                                        hi.y() + m, options.ground_truth_resolution_m);
+    decltype(gt_grid.values)().swap(gt_grid.values);  // only its geometry is used
+  }
+  // Every option is checked and the terrain, rig and path are built: only now may the
+  // caller clear an earlier output (hazmap simulate --overwrite).
+  if (before_writing) before_writing();
+  // simulation.yaml first: it marks the folder as a simulated sequence (output_folder.hpp),
+  // so that even a simulation stopped early can be overwritten.
   write_file_atomically(
       out_dir / "simulation.yaml",
       simulation_yaml(options, terrain, craters, rig,
                       drift ? drift_direction_rad(options.drift, seeds.drift) : 0.0));
+  write_file_atomically(out_dir / "calibration.yaml", calibration_yaml(rig, options.scale));
+  write_file_atomically(out_dir / "poses.txt", poses_txt(options, reported, false, drift));
+  if (drift) write_file_atomically(out_dir / "poses_true.txt", poses_txt(options, path, true, false));
 
   SimulationSummary summary;
   summary.frames = options.frames;
@@ -533,17 +556,7 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
   }
 
   if (options.write_ground_truth) {
-    std::vector<PathPoint> true_points;
-    for (const Pose3d& T_W_B : path) {
-      PathPoint point;
-      point.p_W = T_W_B.translation().head<2>();
-      true_points.push_back(point);
-    }
-    Eigen::Vector2d lo, hi;
-    path_bounds(true_points, lo, hi);
-    const double m = options.ground_truth_margin_m;
-    const JdemGrid g = aligned_ground_truth_grid("height", lo.x() - m, hi.x() + m, lo.y() - m,
-                                                 hi.y() + m, options.ground_truth_resolution_m);
+    const JdemGrid& g = gt_grid;
     const Eigen::Vector2d center_W(g.center_x_m, g.center_y_m);
     const std::vector<std::pair<std::string, std::string>> metadata = {
         {"source", "hazmap simulate"},

@@ -2,14 +2,17 @@
 // stereo` never mix two runs' frames in one OUT (a non-empty OUT needs --overwrite,
 // which removes only hazmap's own outputs), summary.json records the sequence and a
 // fingerprint of its poses, and `hazmap evaluate` refuses a run of another sequence.
+// `hazmap simulate` and `hazmap import-euroc` follow the same rule for their folders.
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "eval/oracle_run.hpp"
 #include "hazmap/io/sequence.hpp"
@@ -218,6 +221,175 @@ TEST(OutputHygiene, EvaluateRefusesARunOfAnotherSequence) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("records no poses fingerprint"), std::string::npos) << r.output;
+}
+
+// The same rule for the sequence writers: `hazmap simulate --out DIR` and `hazmap
+// import-euroc SRC DST` refuse a non-empty folder, and --overwrite removes only what the
+// command writes, so no file of an earlier sequence (poses_true.txt, a frame past the
+// new end, depth/, gt_*.jdem) survives into the new one.
+
+std::string simulate_args(const fs::path& out) {
+  // The smallest images simulate renders, one ray per pixel: a fraction of a second.
+  return "simulate --scenario rocks --scale 0.05 --samples 1 --quiet --out " + out.string();
+}
+
+TEST(OutputHygiene, SimulateRefusesANonEmptyOutAndOverwriteLeavesNoStaleFile) {
+  testing::TempDir dir;
+  const fs::path seq = dir / "seq";
+  CommandResult r =
+      run_cli(simulate_args(seq) + " --frames 3 --drift 0.05 --ground-truth --gt-margin 0.2 --depth");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(seq / "poses_true.txt"));
+  const auto before = snapshot(seq);
+
+  // Again without --overwrite: one line, exit 2 (as for run), the first sequence intact.
+  r = run_cli(simulate_args(seq) + " --frames 2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_EQ(r.output.rfind("hazmap: --out " + seq.string() + ": not empty (an earlier output: ", 0),
+            0u)
+      << r.output;
+  EXPECT_NE(r.output.find("pass --overwrite to replace it"), std::string::npos) << r.output;
+  EXPECT_EQ(snapshot(seq), before) << "the first sequence changed";
+
+  // --overwrite with a bad option: every option is checked before anything is removed.
+  r = run_cli(simulate_args(seq) + " --frames 2 --path zigzag --overwrite");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("zigzag"), std::string::npos) << r.output;
+  EXPECT_EQ(snapshot(seq), before) << "a refused simulation changed the earlier one";
+
+  // --overwrite, no drift, fewer frames, no ground truth, no depth: nothing stale is left.
+  r = run_cli(simulate_args(seq) + " --frames 2 --overwrite");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(seq / "poses_true.txt"));  // evaluate would take it as the truth
+  EXPECT_EQ(names_in(seq), (std::set<std::string>{"calibration.yaml", "left", "poses.txt", "right",
+                                                  "simulation.yaml"}));
+  EXPECT_EQ(names_in(seq / "left"), (std::set<std::string>{"000000.png", "000001.png"}));
+  EXPECT_EQ(names_in(seq / "right"), (std::set<std::string>{"000000.png", "000001.png"}));
+  // The same sequence as one simulated into a new folder, byte for byte.
+  ASSERT_EQ(run_cli(simulate_args(dir / "fresh") + " --frames 2").exit_code, 0);
+  const auto fresh = snapshot(dir / "fresh");
+  auto now = snapshot(seq);
+  ASSERT_EQ(now.size(), fresh.size());
+  for (const auto& [name, bytes] : fresh) {
+    if (name == "simulation.yaml") continue;  // it names OUT
+    EXPECT_EQ(now[name], bytes) << name;
+  }
+}
+
+TEST(OutputHygiene, SimulateRefusesAFolderHoldingOtherFilesEvenWithOverwrite) {
+  testing::TempDir dir;
+  const fs::path seq = dir / "seq";
+  ASSERT_EQ(run_cli(simulate_args(seq) + " --frames 1").exit_code, 0);
+  std::ofstream(seq / "notes.txt") << "mine\n";
+  auto before = snapshot(seq);
+  for (const char* overwrite : {"", " --overwrite"}) {
+    const CommandResult r = run_cli(simulate_args(seq) + " --frames 1" + overwrite);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_EQ(r.output.rfind("hazmap: --out " + seq.string() +
+                                 ": holds notes.txt, which hazmap simulate did not write; "
+                                 "refusing to write there, --overwrite included",
+                             0),
+              0u)
+        << r.output;
+    EXPECT_EQ(snapshot(seq), before) << "the folder changed" << overwrite;
+  }
+  EXPECT_EQ(testing::read_text(seq / "notes.txt"), "mine\n");
+
+  // A sequence simulate did not make (no simulation.yaml: recorded, imported) looks like
+  // its own output, and is still refused: --overwrite never removes someone's images.
+  testing::write_tiny_sequence(dir / "recorded", 2);
+  before = snapshot(dir / "recorded");
+  const CommandResult r = run_cli(simulate_args(dir / "recorded") + " --frames 1 --overwrite");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find(": holds calibration.yaml, left, poses.txt, right, which hazmap "
+                          "simulate did not write (no simulation.yaml"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(snapshot(dir / "recorded"), before);
+}
+
+fs::path euroc_dir() { return testing::source_dir() / "../shared/data/euroc_v1_01_micro"; }
+
+/// A small ASL/EuRoC folder: the first `pairs` image pairs of the shared micro set and
+/// its sensor.yaml files (imported with --identity-poses).
+void write_small_euroc(const fs::path& dir, int pairs) {
+  for (const char* cam : {"cam0", "cam1"}) {
+    const fs::path from = euroc_dir() / "mav0" / cam, to = dir / "mav0" / cam;
+    fs::create_directories(to / "data");
+    fs::copy_file(from / "sensor.yaml", to / "sensor.yaml");
+    std::vector<fs::path> images;
+    for (const auto& e : fs::directory_iterator(from / "data")) images.push_back(e.path());
+    std::sort(images.begin(), images.end());
+    for (int i = 0; i < pairs; ++i) fs::copy_file(images.at(i), to / "data" / images[i].filename());
+  }
+}
+
+std::string import_args(const fs::path& src, const fs::path& dst) {
+  return "import-euroc " + src.string() + " " + dst.string() + " --identity-poses --quiet";
+}
+
+TEST(OutputHygiene, ImportEurocFollowsTheSameRule) {
+  if (!fs::is_directory(euroc_dir() / "mav0"))
+    GTEST_SKIP() << euroc_dir().string() << " is absent (shared real data)";
+  testing::TempDir dir;
+  write_small_euroc(dir / "three", 3);
+  write_small_euroc(dir / "two", 2);
+  const fs::path seq = dir / "seq";
+  CommandResult r = run_cli(import_args(dir / "three", seq));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(names_in(seq / "left").size(), 3u);
+  const auto before = snapshot(seq);
+
+  // Again without --overwrite: one line naming DST, exit 2, the first import intact.
+  r = run_cli(import_args(dir / "two", seq));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_EQ(r.output.rfind("hazmap: DST " + seq.string() + ": not empty (an earlier output: ", 0),
+            0u)
+      << r.output;
+  EXPECT_NE(r.output.find("pass --overwrite"), std::string::npos) << r.output;
+  EXPECT_EQ(snapshot(seq), before);
+
+  // --overwrite with a bad SRC: nothing removed.
+  r = run_cli(import_args(dir / "nowhere", seq) + " --overwrite");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(snapshot(seq), before);
+
+  // --overwrite from a shorter sequence: the third frame does not survive.
+  r = run_cli(import_args(dir / "two", seq) + " --overwrite");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(names_in(seq), (std::set<std::string>{"calibration.yaml", "left", "poses.txt", "right"}));
+  EXPECT_EQ(names_in(seq / "left"), names_in(dir / "two/mav0/cam0/data"));
+  EXPECT_EQ(names_in(seq / "right"), names_in(dir / "two/mav0/cam1/data"));
+  EXPECT_EQ(load_sequence(seq).frames.size(), 2u);
+
+  // A foreign file: refused with or without --overwrite, and it survives.
+  std::ofstream(seq / "notes.txt") << "mine\n";
+  const auto with_notes = snapshot(seq);
+  for (const char* overwrite : {"", " --overwrite"}) {
+    r = run_cli(import_args(dir / "two", seq) + overwrite);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_NE(r.output.find("DST " + seq.string() +
+                            ": holds notes.txt, which hazmap import-euroc did not write"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(snapshot(seq), with_notes) << overwrite;
+  }
+
+  // A sequence it did not import (no "imported from EuRoC" in poses.txt): refused.
+  testing::write_tiny_sequence(dir / "recorded", 2);
+  const auto recorded = snapshot(dir / "recorded");
+  r = run_cli(import_args(dir / "two", dir / "recorded") + " --overwrite");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("holds calibration.yaml, left, poses.txt, right, which hazmap "
+                          "import-euroc did not write (no poses.txt saying 'imported from EuRoC'"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(snapshot(dir / "recorded"), recorded);
 }
 
 }  // namespace

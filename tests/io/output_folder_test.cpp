@@ -1,5 +1,5 @@
-// Issue 22: which OUT folders hazmap run and stereo may write into, and what
-// --overwrite removes (hazmap's own entries only).
+// Issue 22: which OUT folders hazmap run and stereo (and simulate, import-euroc) may
+// write into, and what --overwrite removes (the command's own entries only).
 
 #include "hazmap/io/output_folder.hpp"
 
@@ -128,6 +128,98 @@ TEST(OutputFolder, ClearingLeavesWhatAppearedSinceAlone) {
   clear_output_folder(found);
   EXPECT_TRUE(fs::exists(dir / "out/late.txt"));
   EXPECT_FALSE(fs::exists(dir / "out/frames"));
+}
+
+/// An earlier `hazmap simulate` output of every kind, and an earlier import.
+void write_earlier_simulation(const fs::path& out) {
+  for (const char* f : {"left/000000.png", "right/000000.png", "left/.000001.png.tmp12_3",
+                        "depth/000000.tiff", "calibration.yaml", "simulation.yaml", "poses.txt",
+                        "poses_true.txt", "gt_height.jdem", "gt_hazard.jdem",
+                        ".gt_hazard.jdem.tmp12_4"})
+    touch(out / f);
+}
+
+void write_earlier_import(const fs::path& out) {
+  for (const char* f : {"left/1403715273262142976.png", "right/1403715273262142976.png",
+                        "calibration.yaml"})
+    touch(out / f);
+  touch(out / "poses.txt", "# name t x y z qx qy qz qw   (T_W_B; imported from EuRoC /d/mav0)\n");
+}
+
+TEST(OutputFolder, EachSequenceWriterOwnsWhatItWrites) {
+  testing::TempDir dir;
+  const fs::path sim = dir / "sim", imp = dir / "import";
+  write_earlier_simulation(sim);
+  write_earlier_import(imp);
+  OutputFolder found = inspect_output_folder(sim, OutputOwner::simulate);
+  EXPECT_TRUE(found.foreign.empty()) << found.foreign.front();
+  EXPECT_EQ(found.ours.size(), 10u);  // 3 folders, 6 files, the temporary
+  EXPECT_EQ(output_folder_refusal(found, false),
+            "--out " + sim.string() +
+                ": not empty (an earlier output: .gt_hazard.jdem.tmp12_4, calibration.yaml, "
+                "depth, gt_hazard.jdem and 6 more); pass --overwrite to replace it, or choose "
+                "an empty or new folder");
+  EXPECT_EQ(output_folder_refusal(found, true), "");
+  found = inspect_output_folder(imp, OutputOwner::import_euroc);
+  EXPECT_EQ(found.ours.size(), 4u);
+  EXPECT_EQ(output_folder_refusal(found, true), "");
+  EXPECT_EQ(output_folder_refusal(found, false).rfind("DST " + imp.string() + ": not empty", 0), 0u);
+
+  // Each is foreign to the others: a simulation is not an import, nor a run's OUT.
+  EXPECT_EQ(output_folder_refusal(inspect_output_folder(sim, OutputOwner::import_euroc), true)
+                .rfind("DST " + sim.string() + ": holds .gt_hazard.jdem.tmp12_4, calibration.yaml, "
+                       "depth, gt_hazard.jdem and 6 more, which hazmap import-euroc did not write",
+                       0),
+            0u);
+  EXPECT_NE(output_folder_refusal(inspect_output_folder(imp, OutputOwner::simulate), true)
+                .find("holds calibration.yaml, left, poses.txt, right, which hazmap simulate did "
+                      "not write (no simulation.yaml, so not a sequence it simulated)"),
+            std::string::npos);
+  EXPECT_NE(output_folder_refusal(inspect_output_folder(sim, OutputOwner::run), true)
+                .find("which hazmap did not write"),
+            std::string::npos);
+  // A run's OUT is foreign to simulate.
+  write_earlier_output(dir / "run");
+  EXPECT_NE(output_folder_refusal(inspect_output_folder(dir / "run", OutputOwner::simulate), true)
+                .find("holds .summary.json.tmp123_7, eval, frames, mosaic and 4 more, which hazmap "
+                      "simulate did not write;"),
+            std::string::npos);
+
+  clear_output_folder(inspect_output_folder(sim, OutputOwner::simulate));
+  EXPECT_TRUE(fs::is_directory(sim) && fs::is_empty(sim));
+  clear_output_folder(inspect_output_folder(imp, OutputOwner::import_euroc));
+  EXPECT_TRUE(fs::is_directory(imp) && fs::is_empty(imp));
+}
+
+TEST(OutputFolder, ASequenceWithoutTheWritersMarkIsForeign) {
+  testing::TempDir dir;
+  // A recorded sequence: named like simulate's and import-euroc's outputs, made by neither.
+  const fs::path rec = dir / "recorded";
+  touch(rec / "left/000000.png"), touch(rec / "right/000000.png");
+  touch(rec / "calibration.yaml"), touch(rec / "poses.txt", "# name t x y z qx qy qz qw\n");
+  for (OutputOwner owner : {OutputOwner::simulate, OutputOwner::import_euroc}) {
+    const OutputFolder found = inspect_output_folder(rec, owner);
+    EXPECT_TRUE(found.ours.empty());
+    EXPECT_EQ(found.foreign,
+              (std::vector<std::string>{"calibration.yaml", "left", "poses.txt", "right"}));
+    EXPECT_FALSE(found.unmarked.empty());
+    EXPECT_NE(output_folder_refusal(found, true).find(" (" + found.unmarked + "); refusing"),
+              std::string::npos);
+  }
+  // A simulation.yaml that is a folder, or a link, is no mark.
+  fs::create_directories(rec / "simulation.yaml");
+  EXPECT_FALSE(inspect_output_folder(rec, OutputOwner::simulate).foreign.empty());
+  // Files inside left/ must be files, as in mosaic/.
+  write_earlier_simulation(dir / "sim");
+  touch(dir / "sim/left/sub/x.png");
+  EXPECT_EQ(inspect_output_folder(dir / "sim", OutputOwner::simulate).foreign,
+            std::vector<std::string>{"left/sub"});
+  // Only a temporary left by a simulation killed in its first write: its own, no mark needed.
+  touch(dir / "killed/.simulation.yaml.tmp9_1");
+  const OutputFolder killed = inspect_output_folder(dir / "killed", OutputOwner::simulate);
+  EXPECT_TRUE(killed.foreign.empty());
+  EXPECT_EQ(killed.ours.size(), 1u);
+  EXPECT_EQ(output_folder_refusal(killed, true), "");
 }
 
 TEST(OutputFolder, AFileIsNotAFolder) {

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/io/sequence.hpp"
@@ -59,8 +60,12 @@ Sequence load_euroc_sequence(const std::filesystem::path& dir, const EurocOption
 
 /// Writes `dst` in our layout (left/, right/, calibration.yaml, poses.txt) from the
 /// frames load_euroc_sequence() keeps; images are copied byte for byte. Every file is
-/// written atomically. Returns the number of frames.
+/// written atomically, poses.txt first (its first line, "... imported from EuRoC ...",
+/// marks the folder as an import: output_folder.hpp). `before_writing`, when given, is
+/// called once SRC has been read and checked, before the first file is written (hazmap
+/// import-euroc --overwrite clears DST there). Returns the number of frames.
 size_t import_euroc(const std::filesystem::path& src, const std::filesystem::path& dst,
-                    const EurocOptions& options = {});
+                    const EurocOptions& options = {},
+                    const std::function<void()>& before_writing = {});
 
 }  // namespace hazmap

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -161,10 +162,14 @@ struct SimulationSummary {
 ///   gt_height.jdem, gt_hazard.jdem   if write_ground_truth (SPEC 9/10)
 ///   depth/<name>.tiff  if write_depth
 /// Creates folders as needed; files of the same names are replaced atomically, other
-/// files are left alone. Same options => byte-identical files, for any thread count.
-/// Rendering is parallel over image rows (all cores). Throws Error on invalid options
-/// or I/O failure.
+/// files are left alone (hazmap simulate refuses a non-empty folder, or clears it with
+/// --overwrite through `before_writing`). Same options => byte-identical files, for any
+/// thread count. Rendering is parallel over image rows (all cores). Throws Error on
+/// invalid options or I/O failure. `before_writing`, when given, is called once every
+/// option has been checked and the terrain, rig and path built, before the first file is
+/// written; an error it throws stops the simulation with nothing written.
 SimulationSummary simulate_sequence(const SimulationOptions& options,
-                                    const std::filesystem::path& out_dir);
+                                    const std::filesystem::path& out_dir,
+                                    const std::function<void()>& before_writing = {});
 
 }  // namespace hazmap::sim
