@@ -1,10 +1,6 @@
 #pragma once
-// A layer whose cells follow update rule `Rule` (rules/*.hpp: a struct with Config,
-// Cell, Sums, kMergePerRun, kUsesHeightSums, kStampInCell, kHeightGate and static known /
-// clear / reference_z / weights / merge_frame / age / ages_exports / to_moments /
-// from_moments / height / variance, plus kMergesChunks, run_sums, merge_run and max_precision for rules that
-// merge per run (and merge_chunk_runs where kMergesChunks), add_run for the others, and
-// gate_state and Config::gate_sigma where kHeightGate).
+// A layer whose cells follow update rule `Rule` (rules/*.hpp). What a rule must provide
+// is written down, and checked at compile time, in rules/update_rule.hpp.
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
 // storage slot with straight-line SIMD arithmetic (chunk_slots.hpp): one multiply per
@@ -37,11 +33,16 @@
 #include "hazmap/map/layer.hpp"
 #include "hazmap/map/lazy_ageing.hpp"
 #include "hazmap/map/run_sums.hpp"
+#include "hazmap/rules/update_rule.hpp"
 
 namespace hazmap {
 
 template <class Rule>
 class RollingLayer final : public Layer {
+  static_assert(check_update_rule<Rule>(),
+                "RollingLayer<Rule>: Rule is not an update rule (see the messages above and "
+                "include/hazmap/rules/update_rule.hpp)");
+
  public:
   /// `gate_std_m` > 0 drops points whose lateral standard deviation exceeds it (SPEC 4
   /// max_std_ratio); `pooled` allocates the prior and coverage state of finest_then_pool.

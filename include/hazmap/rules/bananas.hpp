@@ -15,10 +15,14 @@ namespace hazmap {
 
 struct BananasRule {
   static constexpr const char* kName = "bananas";
+  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  /// Piecewise-constant cells: height and variance, no plane.
   static constexpr bool kHasPlane = false;
-  /// The last point wins whatever the grouping.
+  /// The last point wins whatever the grouping: runs merge straight into their cells.
   static constexpr bool kMergePerRun = true;
+  /// run_sums reads the run's last point from the chunk, not ChunkRuns' height sums.
   static constexpr bool kUsesHeightSums = false;
+  /// The layer merges the runs one by one (merge_run).
   static constexpr bool kMergesChunks = false;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;

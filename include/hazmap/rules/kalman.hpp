@@ -31,6 +31,8 @@ namespace hazmap {
 
 struct KalmanRule {
   static constexpr const char* kName = "kalman";
+  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  /// Piecewise-constant cells: height and variance, no plane.
   static constexpr bool kHasPlane = false;
   /// A run merges like a frame: the floor applies per run (closer to the per-point recursion).
   static constexpr bool kMergePerRun = true;
