@@ -9,7 +9,7 @@ HazardFamily hazard_family(RuleKind rule) {
   return rule == RuleKind::ccm ? HazardFamily::plane : HazardFamily::piecewise_constant;
 }
 
-LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& config) {
+LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfig& config) {
   const HazardConfig& hz = config.hazard;
   LayerHazardParams p;
   p.family = hazard_family(layer.rule);
@@ -49,7 +49,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& c
   return p;
 }
 
-HazardParams resolve_hazard_params(const Config& config) {
+HazardParams resolve_hazard_params(const CoreConfig& config) {
   HazardParams p;
   double largest = 0.0;
   for (const LayerConfig& layer : config.map.layers) {

@@ -11,16 +11,6 @@
 
 namespace hazmap {
 
-const char* rule_name(RuleKind kind) {
-  switch (kind) {
-    case RuleKind::bananas: return "bananas";
-    case RuleKind::kalman: return "kalman";
-    case RuleKind::omg: return "omg";
-    case RuleKind::ccm: return "ccm";
-  }
-  return "?";
-}
-
 namespace {
 
 void one_of(const YamlMap& m, const std::string& key, const std::string& value,

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/config.hpp"  // validate()
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/ccm.hpp"
 

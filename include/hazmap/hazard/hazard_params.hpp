@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "hazmap/io/config.hpp"
+#include "hazmap/core/core_config.hpp"
 
 namespace hazmap {
 
@@ -66,7 +66,8 @@ struct HazardParams {
   double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
 };
 
-LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const Config& config);
-HazardParams resolve_hazard_params(const Config& config);
+/// From the map core's configuration; a run's Config (io/config.hpp) is one.
+LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfig& config);
+HazardParams resolve_hazard_params(const CoreConfig& config);
 
 }  // namespace hazmap

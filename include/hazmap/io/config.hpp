@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "hazmap/rules/kalman.hpp"
+#include "hazmap/core/core_config.hpp"
 
 namespace hazmap {
 
@@ -90,75 +90,6 @@ struct SensorConfig {
   double disparity_error_px = 0.25;
 };
 
-enum class RuleKind { bananas, kalman, omg, ccm };
-const char* rule_name(RuleKind kind);
-
-struct LayerHazardConfig {
-  int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
-  double roughness_threshold_m = -1; ///< < 0: derived as (kernel - 1) r tan(max_slope)
-  /// Smallest obstacle the layer vouches for (SPEC 8.1-8.4); < 0: derived (CCM 0.75 r,
-  /// piecewise constant: its roughness threshold).
-  double h_min_m = -1;
-  double rho_max_m2 = -1;            ///< CCM roughness threshold; < 0: h_min^2 / 16
-};
-
-struct LayerConfig {
-  double resolution_m = 0.01;
-  int size = 128;  ///< cells per side, even
-  RuleKind rule = RuleKind::kalman;
-  /// SPEC 4 gating: drop points whose lateral std exceeds max_std_ratio * r / sqrt(12);
-  /// 0 off, < 0: rules.ccm.max_std_ratio.
-  double max_std_ratio = -1;
-  LayerHazardConfig hazard;
-};
-
-struct MapConfig {
-  std::string insertion = "all_layers";  ///< all_layers | finest_then_pool
-  std::vector<LayerConfig> layers;
-};
-
-struct OmgConfig {
-  double max_weight = 1.0e7;
-  double decay = 1.0;
-  double gate_sigma = 0.0;  ///< SPEC 4 consistency gate (0 = off)
-};
-
-struct CcmConfig {
-  std::string weighting = "constant";  ///< constant | trace | det
-  bool full_plane = true;
-  double max_weight = 500;
-  int min_points = 10;
-  double min_coverage = 0.8;
-  double max_std_ratio = 0.0;
-};
-
-struct RulesConfig {
-  KalmanRule::Config kalman;
-  OmgConfig omg;
-  CcmConfig ccm;
-};
-
-struct HazardConfig {
-  double max_slope_deg = 20.0;
-  double wheelbase_m = 0.30;
-  double min_kernel_fill = 0.5;  ///< fraction of kernel cells that must be observed
-  /// Piecewise-constant kernel statistic (SPEC 8.1): "range" (max - min of the heights,
-  /// the thesis') or "detrended" (max - min of the residuals from the kernel's
-  /// least-squares plane, with the wheel ring's vehicle-slope test taking over slopes).
-  std::string roughness = "range";
-  /// CCM: slope evidence from one axis of a partly covered cell needs that axis' coverage
-  /// (points' variance along it over r^2/12; a strip w wide has (w / r)^2) at least this:
-  /// 0.1, the axis spans a third of the cell.
-  double min_axis_coverage = 0.1;
-  double k_sigma = 3.0;          ///< SPEC 8: hazard when s - k sigma > T, traversable when s + k sigma <= T
-  double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
-  double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
-  double fused_extent_m = 0;     ///< side of the fused/footprint maps; 0: the largest layer's
-  /// SPEC 8.6: re-classify only the cells whose result can have changed (equal to a full
-  /// pass; false: every cell of every layer every frame, for comparison).
-  bool incremental = true;
-};
-
 struct PoseUncertaintyConfig {
   bool enabled = false;
 };
@@ -184,12 +115,10 @@ struct OutputConfig {
   bool mosaic = false;    ///< also OUT/mosaic/<frame>.png: every layer side by side
 };
 
-struct Config {
+/// The map core's part (map, rules, hazard: core/core_config.hpp) and the rest.
+struct Config : CoreConfig {
   StereoConfig stereo;
   SensorConfig sensor;
-  MapConfig map;
-  RulesConfig rules;
-  HazardConfig hazard;
   PoseUncertaintyConfig pose_uncertainty;
   OutputConfig output;
 };

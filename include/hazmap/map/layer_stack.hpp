@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "hazmap/io/config.hpp"
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/map/layer.hpp"
 #include "hazmap/map/pose_uncertainty.hpp"
 
