@@ -332,7 +332,7 @@ TEST(AnalyticHazards, FewPointsOnARockTopAreStepEvidenceAndFewOnGroundProveNothi
   for (int r = 0; r < h.rows; ++r)
     for (int c = 0; c < h.cols; ++c) {
       const double x = h.x_of_col(c), y = h.y_of_row(r);
-      if (std::isnan(g.height.at(r, c)) || g.count.at(r, c) >= min_points) continue;
+      if (std::isnan(g.height.at(r, c)) || double(g.count.at(r, c)) >= min_points) continue;
       // Cells wholly on the top or in the patch (their edges hold other points).
       if (std::abs(x - xc) < half - 0.02 && std::abs(y - yc) < half - 0.02) {
         ++top_cells;
