@@ -1,4 +1,4 @@
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
 
 #include <array>
 #include <cstdint>
@@ -17,6 +17,7 @@ namespace {
 typedef float Vec8 __attribute__((vector_size(32)));
 typedef int Mask8 __attribute__((vector_size(32)));
 typedef int Index8 __attribute__((vector_size(32)));  ///< lane numbers for __builtin_shuffle
+static_assert(sizeof(Vec8) / sizeof(float) == kRunLanes, "one Vec8 per run, eight runs per batch");
 
 [[gnu::always_inline]] inline void load8(const float* p, Vec8& v) { std::memcpy(&v, p, sizeof v); }
 [[gnu::always_inline]] inline void keep8(Vec8& v, const Mask8& live) {
@@ -57,12 +58,14 @@ constexpr std::array<std::uint64_t, 256> make_set_bit_table() {
 }
 constexpr std::array<std::uint64_t, 256> kSetBits = make_set_bit_table();
 
+static_assert(sizeof(__m256i) / sizeof(int) == kRunLanes, "find_runs compares one __m256i of slots");
+
 __attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int count, int* starts,
                                                           int* run_slot) {
   starts[0] = 0;
   run_slot[0] = slot[0];
   int runs = 1, i = 1;
-  for (; i + 8 <= count; i += 8) {
+  for (; i + kRunLanes <= count; i += kRunLanes) {
     const __m256i cur = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot + i));
     const __m256i prev = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot + i - 1));
     const unsigned same = static_cast<unsigned>(
@@ -118,10 +121,10 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
   // Eight runs at a time: each run's lanes are summed in one vector per quantity, then
   // the eight vectors are reduced together by a tree of pairwise adds (one result lane per
   // run), which costs a few shuffles per run instead of a horizontal sum each.
-  for (int r0 = 0; r0 < runs; r0 += 8) {
-    Vec8 acc_w[8], acc_wz[8];
+  for (int r0 = 0; r0 < runs; r0 += kRunLanes) {
+    Vec8 acc_w[kRunLanes], acc_wz[kRunLanes];
 #pragma GCC unroll 8
-    for (int j = 0; j < 8; ++j) {
+    for (int j = 0; j < kRunLanes; ++j) {
       const int r = r0 + j;
       const bool valid = r < runs;
       const int b = valid ? starts[r] : 0, n = valid ? starts[r + 1] - b : 0;
@@ -142,7 +145,7 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
       keep8(pw1, lane + 8 < len);
       keep8(pz1, lane + 8 < len);
       Vec8 aw = pw0 + pw1, awz = pw0 * pz0 + pw1 * pz1;
-      for (int k = 16; k < n; k += 8) {
+      for (int k = kRunSumVectors * kRunLanes; k < n; k += kRunLanes) {
         const Mask8 live = (lane + k) < len;
         Vec8 pw, pz;
         load8(w + b + k, pw);

@@ -1,4 +1,4 @@
-#include "hazmap/map/chunk_slots.hpp"
+#include "hazmap/map/internal/chunk_slots.hpp"
 
 #include "hazmap/core/kernel.hpp"
 
@@ -49,7 +49,7 @@ template <bool kPlane, bool kGate>
       cx[i] = fx - static_cast<float>(lx) - 0.5f;
       cy[i] = fy - static_cast<float>(ly) - 0.5f;
     }
-    slot[i] = keep ? sy * n + sx : -1;
+    slot[i] = keep ? sy * n + sx : kNoSlot;
   }
   return gated;
 }
@@ -92,6 +92,9 @@ int locate_portable(const PointChunk& c, const WindowIndex& w, float gate_var, i
 /// sy N + sx as one 16-bit multiply-add, so N < 2^15). Most operations here run on any of
 /// three ports instead of the two that do float compares and rounding. It writes whole
 /// vectors: up to count rounded up to 8 (< kStride).
+static_assert(sizeof(__m256i) / sizeof(int) == kLocateLanes, "one __m256i of slots per step");
+static_assert(sizeof(__m256) / sizeof(float) == kLocateLanes, "one __m256 of points per step");
+
 template <bool kPlane, bool kGate>
 __attribute__((target("avx2,fma"))) int locate_avx2(const PointChunk& c, const WindowIndex& w,
                                                     float gate_var, int* slot, float* cx,
@@ -112,7 +115,7 @@ __attribute__((target("avx2,fma"))) int locate_avx2(const PointChunk& c, const W
   const float* const lateral_var = c.lateral_var;
   const int count = c.size;
   int gated = 0;
-  for (int i = 0; i < count; i += 8) {
+  for (int i = 0; i < count; i += kLocateLanes) {
     const __m256 ax = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_loadu_ps(px + i), x0), inv_r, one);
     const __m256 ay = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_loadu_ps(py + i), y0), inv_r, one);
     const __m256i lx1 = _mm256_cvttps_epi32(ax), ly1 = _mm256_cvttps_epi32(ay);
@@ -127,7 +130,7 @@ __attribute__((target("avx2,fma"))) int locate_avx2(const PointChunk& c, const W
       // to the next chunk (or padding) and are masked off.
       unsigned bits = static_cast<unsigned>(
           _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_andnot_si256(out, wide))));
-      if (count - i < 8) bits &= (1u << (count - i)) - 1u;
+      if (count - i < kLocateLanes) bits &= (1u << (count - i)) - 1u;
       gated += __builtin_popcount(bits);
       out = _mm256_or_si256(out, wide);
     }

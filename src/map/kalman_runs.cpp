@@ -1,6 +1,6 @@
 #include "hazmap/rules/kalman.hpp"
 
-#include "hazmap/map/lazy_ageing.hpp"
+#include "hazmap/map/internal/lazy_ageing.hpp"
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>

@@ -1,4 +1,4 @@
-#include "hazmap/map/run_sums.hpp"
+#include "hazmap/map/internal/run_sums.hpp"
 
 #include <cstdint>
 #include <cstring>
@@ -12,6 +12,8 @@ namespace {
 typedef float Vec4 __attribute__((vector_size(16)));
 typedef int Mask4 __attribute__((vector_size(16)));
 typedef int Int8 __attribute__((vector_size(32)));
+static_assert(sizeof(Vec4) / sizeof(float) == kRunPointLanes, "one Vec4 of points per step");
+static_assert(sizeof(Int8) / sizeof(int) == kRunEndLanes, "one Int8 of slots per step");
 
 [[gnu::always_inline]] inline Vec4 load(const float* p) {
   Vec4 v;
@@ -33,7 +35,7 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
   Vec4 wv{};
   const Mask4 lane = {0, 1, 2, 3};
   if (run.w != nullptr) {
-    for (int k = run.begin; k < run.end; k += 4) {
+    for (int k = run.begin; k < run.end; k += kRunPointLanes) {
       // Lanes past the run's end are zeroed (their values may be anything, even NaN).
       const Mask4 live = (lane + k) < run.end;
       const Vec4 pw = keep(load(run.w + k), live);
@@ -45,7 +47,7 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
     // Unit weights: no weight array to read (its place in the memory traffic goes to
     // var_z) and no products by the weight.
     const Vec4 one = {1.0f, 1.0f, 1.0f, 1.0f};
-    for (int k = run.begin; k < run.end; k += 4) {
+    for (int k = run.begin; k < run.end; k += kRunPointLanes) {
       const Mask4 live = (lane + k) < run.end;
       lanes.add_unit(keep(one, live), keep(load(run.x + k), live), keep(load(run.y + k), live),
                      keep(load(run.z + k) - z0, live));
@@ -72,7 +74,7 @@ HAZMAP_KERNEL HeightSums height_run(const RunPoints& run, double z_ref_m) {
   const float z0 = run.z[run.begin];
   Vec4 w{}, wz{}, wzz{};
   const Mask4 lane = {0, 1, 2, 3};
-  for (int k = run.begin; k < run.end; k += 4) {
+  for (int k = run.begin; k < run.end; k += kRunPointLanes) {
     const Mask4 live = (lane + k) < run.end;
     const Vec4 pw = keep(load(run.w + k), live);
     const Vec4 pz = keep(load(run.z + k) - z0, live);
@@ -93,7 +95,7 @@ HAZMAP_KERNEL int run_end(const int* slot, int begin, int count) {
   const int s = slot[begin];
   int k = begin + 1;
   // Eight slots per step while they all match (long runs on coarse layers), then one by one.
-  for (; k + 8 <= count; k += 8) {
+  for (; k + kRunEndLanes <= count; k += kRunEndLanes) {
     Int8 v;
     std::memcpy(&v, slot + k, sizeof v);
     const Int8 differ = v != s;

@@ -1,6 +1,6 @@
 // find_runs (both versions) and run_height_sums against plain scalar double versions.
 
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
 
 #include <gtest/gtest.h>
 

@@ -10,10 +10,10 @@
 #include <random>
 #include <vector>
 
-#include "hazmap/map/chunk_slots.hpp"
 #include "hazmap/map/grid_math.hpp"
+#include "hazmap/map/internal/chunk_slots.hpp"
+#include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/rolling_grid.hpp"
-#include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
 #include "hazmap/rules/kalman.hpp"
 
 namespace hazmap {

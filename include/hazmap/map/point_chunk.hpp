@@ -9,6 +9,8 @@ namespace hazmap {
 struct PointChunk {
   static constexpr int kCapacity = 1024;
   /// Readable lanes after the last point, so that vector loops may load whole vectors.
+  /// What each kernel needs of it is a static_assert in map/internal/ (chunk_slots.hpp,
+  /// chunk_runs.hpp, run_sums.hpp).
   static constexpr int kPad = 16;
   static constexpr int kStride = kCapacity + kPad;
 

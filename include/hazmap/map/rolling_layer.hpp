@@ -3,13 +3,13 @@
 // is written down, and checked at compile time, in rules/update_rule.hpp.
 //
 // Insertion works on chunks of points in two passes. Pass 1 maps every point to its
-// storage slot with straight-line SIMD arithmetic (chunk_slots.hpp): one multiply per
+// storage slot with straight-line SIMD arithmetic (internal/chunk_slots.hpp): one multiply per
 // axis (no division by the resolution), a floor, a bounds test and a conditional
 // subtract for the ring wrap (no modulo, no table, no branch). Pass 2 works
 // on the runs of equal slots (scan lines cross cells in runs). Rules whose merge does not
 // depend on how a frame's points are grouped (Rule::kMergePerRun: Kalman, the baseline)
 // list the chunk's runs and sum them without a branch on where runs end
-// (chunk_runs.hpp), then merge each run straight into its cell. The others (CCM and OMG
+// (internal/chunk_runs.hpp), then merge each run straight into its cell. The others (CCM and OMG
 // apply their weight cap once per frame, SPEC 6.3-6.4) sum each run in registers into
 // the cell's frame accumulator and merge each touched cell once per frame. Ageing (time
 // inflation, decay) is lazy, see begin_frame. All buffers are allocated in the
@@ -28,11 +28,11 @@
 #include <limits>
 #include <vector>
 
-#include "hazmap/map/chunk_runs.hpp"
-#include "hazmap/map/chunk_slots.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_slots.hpp"
+#include "hazmap/map/internal/lazy_ageing.hpp"
+#include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/layer.hpp"
-#include "hazmap/map/lazy_ageing.hpp"
-#include "hazmap/map/run_sums.hpp"
 #include "hazmap/rules/update_rule.hpp"
 
 namespace hazmap {
@@ -59,7 +59,7 @@ class RollingLayer final : public Layer {
         updated_frame_(Rule::kStampInCell ? 0 : cell_count(), 0),
         frame_index_(Rule::kMergePerRun ? 0 : cell_count(), 0),
         touched_(Rule::kMergePerRun ? 0 : cell_count(), 0),
-        slot_buf_(PointChunk::kStride, -1),
+        slot_buf_(PointChunk::kStride, kNoSlot),
         x_buf_(PointChunk::kStride, 0.0f),
         y_buf_(PointChunk::kStride, 0.0f),
         runs_(Rule::kUsesHeightSums) {
@@ -425,7 +425,7 @@ class RollingLayer final : public Layer {
       if (!known) continue;
       const double d = double(z[i]) - mu;
       if (d * d > g2 * (var + double(var_z[i]))) {
-        slot[i] = -1;
+        slot[i] = kNoSlot;
         ++rejected;
       }
     }
@@ -433,7 +433,7 @@ class RollingLayer final : public Layer {
   }
 
   /// Pass 2 for rules that merge each run straight into its cell: the chunk's runs as
-  /// a list (chunk_runs.hpp), then one merge per run.
+  /// a list (internal/chunk_runs.hpp), then one merge per run.
   std::size_t merge_runs(const PointChunk& chunk) {
     runs_.find(slot_buf_.data(), chunk.size);
     if constexpr (Rule::kUsesHeightSums) runs_.sum_heights(Rule::weights(chunk), chunk.z);

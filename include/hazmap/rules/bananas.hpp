@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
 

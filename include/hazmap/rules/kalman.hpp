@@ -22,10 +22,10 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
+#include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/split_height.hpp"
 
 namespace hazmap {
 
@@ -36,7 +36,7 @@ struct KalmanRule {
   static constexpr bool kHasPlane = false;
   /// A run merges like a frame: the floor applies per run (closer to the per-point recursion).
   static constexpr bool kMergePerRun = true;
-  /// A run's sums come from ChunkRuns::sum_heights (chunk_runs.hpp).
+  /// A run's sums come from ChunkRuns::sum_heights (internal/chunk_runs.hpp).
   static constexpr bool kUsesHeightSums = true;
   /// Plain layers hand a chunk's whole run list to merge_chunk_runs.
   static constexpr bool kMergesChunks = true;

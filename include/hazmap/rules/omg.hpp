@@ -13,10 +13,10 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/map/internal/run_sums.hpp"
+#include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/run_sums.hpp"
-#include "hazmap/map/split_height.hpp"
 
 namespace hazmap {
 

@@ -76,10 +76,10 @@
 #include <type_traits>
 #include <utility>
 
-#include "hazmap/map/chunk_runs.hpp"
+#include "hazmap/map/internal/chunk_runs.hpp"
+#include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
-#include "hazmap/map/run_sums.hpp"
 
 namespace hazmap {
 

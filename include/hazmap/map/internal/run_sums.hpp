@@ -1,4 +1,5 @@
 #pragma once
+// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
 // Sums of one run: consecutive points of a chunk that fall in the same cell. Scan lines
 // cross cells in runs (in the benchmark frame ~8 points per 1 cm cell, ~30 per 4 cm
 // cell), so a layer finds a run's cell once and sums the run in registers.
@@ -10,8 +11,19 @@
 //   z' = z + W d,  zz' = zz + 2 d z + W d^2,  xz' = xz + d x,  yz' = yz + d y.
 
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
+
+/// Points per step of add_plane_run and height_run (four float lanes): they load whole
+/// vectors, past a run's end up to end + 3.
+constexpr int kRunPointLanes = 4;
+static_assert(PointChunk::kPad >= kRunPointLanes,
+              "add_plane_run / height_run read a chunk's arrays up to end + 3");
+/// Slots per step of run_end's scan (eight int lanes).
+constexpr int kRunEndLanes = 8;
+static_assert(PointChunk::kPad >= kRunEndLanes,
+              "run_end reads slot up to count + 7 (the layer's slot buffer holds kStride)");
 
 /// Points [begin, end) of a chunk: weights (null: all 1), cell-centred x and y in cell
 /// units, heights [m], and height variances Sigma_zz [m^2] (plane runs only). Every array
@@ -39,7 +51,7 @@ struct HeightSums {
 HeightSums height_run(const RunPoints& run, double z_ref_m);
 
 /// End of the run that starts at `begin`: the first index in (begin, count] whose slot
-/// differs from slot[begin]. `slot` must be readable up to count + 7.
+/// differs from slot[begin]. `slot` must be readable up to count + kRunEndLanes - 1.
 int run_end(const int* slot, int begin, int count);
 
 }  // namespace hazmap

@@ -1,4 +1,5 @@
 #pragma once
+// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
 // Pass 2 of a layer's insertion for rules that merge each run straight into its cell
 // (Kalman, the baseline): a chunk's runs of equal slots as a list of start indices and,
 // for rules that fuse heights, each run's weighted sums.
@@ -15,10 +16,20 @@
 
 namespace hazmap {
 
+/// Lanes of the run kernels: find_runs (AVX2) compares eight slots at a time and stores
+/// eight candidate starts; run_height_sums sums eight runs at a time and stores whole
+/// vectors of eight sums.
+constexpr int kRunLanes = 8;
+/// Vectors of kRunLanes points run_height_sums loads per run without a loop (runs of up
+/// to 16 points): it reads w and z that far past a run's first point.
+constexpr int kRunSumVectors = 2;
+static_assert(PointChunk::kPad >= kRunSumVectors * kRunLanes,
+              "run_height_sums reads w and z up to count + 15: PointChunk::kPad must cover it");
+
 /// Start indices of the runs of equal slots in slot[0, count): starts[0] = 0, run r is
 /// [starts[r], starts[r + 1]) and starts[runs] = count, and run_slot[r] = slot[starts[r]]
 /// (so that the merge loop reads the runs' slots in order). Returns the number of runs.
-/// `starts` and `run_slot` hold at least count + 8 entries.
+/// `starts` and `run_slot` hold at least count + kRunLanes entries.
 int find_runs(const int* slot, int count, int* starts, int* run_slot);
 
 /// The portable version of find_runs (what it runs where AVX2 is missing), for tests.
@@ -29,18 +40,23 @@ int find_runs_portable(const int* slot, int count, int* starts, int* run_slot);
 /// and first_z[r] = z[starts[r]].
 /// Float lanes: about the run's first height they keep ~1e-10 m of the run's mean.
 /// `w` and `z` must be readable up to count + 15 (PointChunk::kPad); sum_w and sum_wz
-/// hold runs + 8 entries (results are stored as whole vectors of eight), first_z runs + 8.
+/// hold runs + kRunLanes entries (results are stored as whole vectors), first_z the same.
 void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
                      float* sum_wz, float* first_z);
 
 /// A chunk's runs in one layer, with the buffers sized once (PointChunk::kCapacity).
 class ChunkRuns {
  public:
+  /// Entries past kStride in every list: find_runs and run_height_sums store whole
+  /// vectors of kRunLanes past the last run.
+  static constexpr int kListPad = 8;
+  static_assert(kListPad >= kRunLanes, "run lists are written kRunLanes entries at a time");
+
   /// `height_sums`: also allocate the per-run sums (Kalman).
   explicit ChunkRuns(bool height_sums)
-      : starts_(PointChunk::kStride + 8, 0),
-        slots_(PointChunk::kStride + 8, 0),
-        sum_w_(height_sums ? PointChunk::kStride + 8 : 0, 0.0f),
+      : starts_(PointChunk::kStride + kListPad, 0),
+        slots_(PointChunk::kStride + kListPad, 0),
+        sum_w_(height_sums ? PointChunk::kStride + kListPad : 0, 0.0f),
         sum_wz_(sum_w_.size(), 0.0f),
         first_z_(sum_w_.size(), 0.0f) {}
 

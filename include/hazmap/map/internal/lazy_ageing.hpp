@@ -1,4 +1,5 @@
 #pragma once
+// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
 // Lazy ageing: a cell is stamped with the frame of its last merge and catches up on the
 // frames since then (Rule::age) when it is next merged or read, so that a frame does not
 // pass over every cell.

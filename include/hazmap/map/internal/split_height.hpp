@@ -1,4 +1,5 @@
 #pragma once
+// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
 // A height stored as a float reference plus a float offset: ~48 bits together, so a cell
 // at |z| ~ 100 m keeps sub-micrometre resolution in 8 bytes, and merges do not accumulate
 // float rounding (the value is re-split at every store). Used by the Kalman, OMG and CCM
