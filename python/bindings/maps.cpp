@@ -18,9 +18,22 @@
 #include "hazmap/map/map_points.hpp"
 #include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap::python {
 namespace {
+
+/// "Update rule: bananas, kalman, omg or ccm.": the registry's names (rule_registry.hpp).
+const char* rule_doc() {
+  static const std::string doc = [] {
+    const std::vector<const char*> names = rule_names();
+    std::string d = "Update rule: ";
+    for (std::size_t i = 0; i < names.size(); ++i)
+      d += std::string(i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return d + ".";
+  }();
+  return doc.c_str();
+}
 
 /// What Layer and PlannerMaps objects read: the grids of a Pipeline or a LayerStack as
 /// they stand after its last frame. The grids are allocated by the first frame and
@@ -273,7 +286,7 @@ call .copy() on what you want to keep. Grids a rule does not fill are None.)");
   layer.def_readonly("index", &LayerHandle::index, "0 = finest.");
   layer.def_property_readonly("rule", [](const LayerHandle& h) {
     return std::string(rule_name(h.source->config().map.layers[h.index].rule));
-  }, "Update rule: bananas, kalman, omg or ccm.");
+  }, rule_doc());
   layer.def_property_readonly("h_min_m", [](const LayerHandle& h) { return h.params().h_min_m; },
                               "Smallest obstacle this layer vouches for [m] (SPEC 8).");
   layer.def_property_readonly("published_extra_variance_m2", [](const LayerHandle& h) {

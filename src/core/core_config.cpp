@@ -1,15 +1,9 @@
 #include "hazmap/core/core_config.hpp"
 
+#include "hazmap/rules/rule_registry.hpp"
+
 namespace hazmap {
 
-const char* rule_name(RuleKind kind) {
-  switch (kind) {
-    case RuleKind::bananas: return "bananas";
-    case RuleKind::kalman: return "kalman";
-    case RuleKind::omg: return "omg";
-    case RuleKind::ccm: return "ccm";
-  }
-  return "?";
-}
+const char* rule_name(RuleKind kind) { return rule_info(kind).name; }
 
 }  // namespace hazmap

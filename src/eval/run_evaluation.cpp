@@ -23,6 +23,7 @@
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap::eval {
 
@@ -357,7 +358,7 @@ LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
   maps.height = read_dense_grid(frame_dir / (p + "height.jdem"));
   if (fs::exists(frame_dir / (p + "variance.jdem")))
     maps.variance = read_dense_grid(frame_dir / (p + "variance.jdem"));
-  if (layer.rule == "ccm") {
+  if (rule_has_plane(layer.rule)) {
     maps.slope_x = read_dense_grid(frame_dir / (p + "slope_x.jdem"));
     maps.slope_y = read_dense_grid(frame_dir / (p + "slope_y.jdem"));
   }

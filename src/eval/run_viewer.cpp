@@ -23,6 +23,7 @@
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/map_render.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 #include "viewer/viewer_assets.hpp"
 
 namespace hazmap::eval {
@@ -112,7 +113,7 @@ std::vector<MapSpec> map_specs(const Config& config) {
     m.files = {{"hazard", m.id + "_hazard", true, true},
                {"height", m.id + "_height", false, true},
                {"variance", m.id + "_variance", false, true}};
-    if (l.rule == RuleKind::ccm)  // the cell planes (SPEC 6): sub-cell heights on hover
+    if (rule_info(l.rule).has_plane)  // the cell planes (SPEC 6): sub-cell heights on hover
       for (const char* q : {"slope_x", "slope_y"})
         m.files.push_back({q, m.id + "_" + q, false, false});
     maps.push_back(m);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hazmap/rules/rule_registry.hpp"
+
 namespace hazmap {
 
 HazardFamily hazard_family(RuleKind rule) {
-  return rule == RuleKind::ccm ? HazardFamily::plane : HazardFamily::piecewise_constant;
+  return rule_info(rule).has_plane ? HazardFamily::plane : HazardFamily::piecewise_constant;
 }
 
 LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfig& config) {

@@ -4,9 +4,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/map/grid_math.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 #include "yaml_access.hpp"
 
 namespace hazmap {
@@ -14,7 +16,7 @@ namespace hazmap {
 namespace {
 
 void one_of(const YamlMap& m, const std::string& key, const std::string& value,
-            std::initializer_list<const char*> allowed) {
+            const std::vector<const char*>& allowed) {
   std::string list;
   for (const char* a : allowed) {
     if (value == a) return;
@@ -94,11 +96,8 @@ void parse_map(YamlMap m, MapConfig& map) {
       l.require("size", layer.size);
       std::string rule = "kalman";
       l.require("rule", rule);
-      one_of(l, "rule", rule, {"bananas", "kalman", "omg", "ccm"});
-      layer.rule = rule == "bananas" ? RuleKind::bananas
-                   : rule == "kalman" ? RuleKind::kalman
-                   : rule == "omg"    ? RuleKind::omg
-                                      : RuleKind::ccm;
+      one_of(l, "rule", rule, rule_names());
+      layer.rule = *rule_kind(rule);
       l.get("max_std_ratio", layer.max_std_ratio);
       YamlMap h = l.child("hazard");
       h.get("kernel", layer.hazard.kernel);
@@ -278,12 +277,10 @@ void validate(const Config& c) {
     }
   }
   if (c.map.insertion == "finest_then_pool") {
-    // SPEC 5: pooling is defined between consecutive layers of one rule family.
-    auto family = [](RuleKind k) {
-      return k == RuleKind::ccm ? 0 : k == RuleKind::bananas ? 1 : 2;  // 2: kalman / omg
-    };
+    // SPEC 5: pooling is defined between consecutive layers of one rule family (the
+    // rules' kPoolFamily, rules/rule_registry.hpp).
     for (size_t i = 1; i < c.map.layers.size(); ++i)
-      if (family(c.map.layers[i].rule) != family(c.map.layers[i - 1].rule))
+      if (!same_pool_family(c.map.layers[i].rule, c.map.layers[i - 1].rule))
         invalid("map.layers." + std::to_string(i) + ".rule",
                 std::string("finest_then_pool pools only between layers of one rule family (ccm "
                             "with ccm, kalman/omg with kalman/omg), but layer ") +

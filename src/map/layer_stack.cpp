@@ -8,10 +8,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/core/ticks.hpp"
 #include "hazmap/map/rolling_layer.hpp"
-#include "hazmap/rules/bananas.hpp"
-#include "hazmap/rules/ccm.hpp"
-#include "hazmap/rules/kalman.hpp"
-#include "hazmap/rules/omg.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 
@@ -26,6 +23,29 @@ double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
   return ratio > 0 ? ratio * layer.resolution_m / std::sqrt(12.0) : 0.0;
 }
 
+namespace {
+
+// A rule's parameters from the run's configuration (rules.<name>, hazard). A rule without
+// an overload here has none: it gets Rule::Config{}.
+template <class Rule>
+typename Rule::Config rule_config(RuleTag<Rule>, const RulesConfig&, const HazardConfig&) {
+  return typename Rule::Config{};
+}
+KalmanRule::Config rule_config(RuleTag<KalmanRule>, const RulesConfig& rules, const HazardConfig&) {
+  return rules.kalman;
+}
+OmgRule::Config rule_config(RuleTag<OmgRule>, const RulesConfig& rules, const HazardConfig&) {
+  return OmgRule::Config{rules.omg.max_weight, rules.omg.decay, rules.omg.gate_sigma};
+}
+CcmRule::Config rule_config(RuleTag<CcmRule>, const RulesConfig& rules, const HazardConfig& hazard) {
+  CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
+                      rules.ccm.full_plane};
+  cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
+  return cfg;
+}
+
+}  // namespace
+
 std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules,
                                   const HazardConfig& hazard, std::size_t index) {
   const LayerConfig& layer = map.layers[index];
@@ -33,23 +53,12 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
   const int n = layer.size;
   const double r = layer.resolution_m;
   const double gate = gate_std_m(layer, rules);
-  switch (layer.rule) {
-    case RuleKind::bananas:
-      return std::make_unique<RollingLayer<BananasRule>>(n, r, BananasRule::Config{}, gate, pooled);
-    case RuleKind::kalman:
-      return std::make_unique<RollingLayer<KalmanRule>>(n, r, rules.kalman, gate, pooled);
-    case RuleKind::omg:
-      return std::make_unique<RollingLayer<OmgRule>>(
-          n, r, OmgRule::Config{rules.omg.max_weight, rules.omg.decay, rules.omg.gate_sigma}, gate,
-          pooled);
-    case RuleKind::ccm: {
-      CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
-                          rules.ccm.full_plane};
-      cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
-      return std::make_unique<RollingLayer<CcmRule>>(n, r, cfg, gate, pooled);
-    }
-  }
-  throw Error("config: key 'map.layers." + std::to_string(index) + ".rule': unknown rule");
+  if (static_cast<std::size_t>(layer.rule) >= Rules::size)
+    throw Error("config: key 'map.layers." + std::to_string(index) + ".rule': unknown rule");
+  return visit_rule(layer.rule, [&](auto tag) -> std::unique_ptr<Layer> {
+    using Rule = typename decltype(tag)::type;
+    return std::make_unique<RollingLayer<Rule>>(n, r, rule_config(tag, rules, hazard), gate, pooled);
+  });
 }
 
 std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules, std::size_t index) {

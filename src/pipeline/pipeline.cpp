@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {
@@ -18,9 +19,10 @@ double ms_since(Clock::time_point start) {
 }
 
 /// Bytes a map cell costs in all of a layer's grids, measured as the growth of peak memory
-/// from size 512 to 1024 (hazmap run, one layer): 117 for kalman, 265 for ccm; omg and
-/// bananas keep the same piecewise-constant grids as kalman.
-double bytes_per_cell(RuleKind rule) { return rule == RuleKind::ccm ? 270.0 : 120.0; }
+/// from size 512 to 1024 (hazmap run, one layer): 117 for kalman, 265 for ccm. The grids
+/// follow the rule's kHasPlane: a plane rule exports the plane grids, the others the same
+/// piecewise-constant grids as kalman.
+double bytes_per_cell(RuleKind rule) { return rule_info(rule).has_plane ? 270.0 : 120.0; }
 
 /// The map is allocated once, up front (SPEC 5), sized by the config: a stack that
 /// cannot fit in this machine's memory is reported here, by key, instead of as

@@ -35,6 +35,10 @@ struct OmgRule {
   static constexpr bool kStampInCell = false;
   /// Has the SPEC 4 consistency gate (gate_state).
   static constexpr bool kHeightGate = true;
+  /// finest_then_pool pools OMG layers with Kalman layers (SPEC 5): both cells pool as a
+  /// weighted height (to_moments: w = weight or precision, mz), so they are one family
+  /// (rules/rule_registry.hpp; a rule without kPoolFamily pools only with itself).
+  static constexpr const char* kPoolFamily = "kalman";
 
   struct Config {
     double max_weight = 1.0e7;  ///< S cap [1/m^2]
