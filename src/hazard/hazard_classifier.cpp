@@ -212,6 +212,13 @@ RingSample PlaneClassifier::surface_at(const LayerGrids& g, double x_m, double y
   return s;
 }
 
+void PlaneClassifier::ring_around(const LayerGrids& g, int row, int col,
+                                  RingSample (&s)[WheelRing::kSamples]) const {
+  const double cx = g.height.x_of_col(col), cy = g.height.y_of_row(row);
+  for (int k = 0; k < WheelRing::kSamples; ++k)
+    s[k] = surface_at(g, cx + ring_.dx(k), cy + ring_.dy(k));
+}
+
 int PlaneClassifier::reach_cells() const {
   // A ring sample reads the cell holding a point R from the centre, at most ceil(R / r)
   // cells away, one more for rounding, and when that cell is not evaluable one of its
@@ -239,10 +246,8 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
         if (p.ring_tests) {
           Evidence ev(p.k_sigma);
           ev.missing();
-          const double cx = h.x_of_col(col), cy = h.y_of_row(row);
           RingSample s[WheelRing::kSamples];
-          for (int k = 0; k < WheelRing::kSamples; ++k)
-            s[k] = surface_at(g, cx + ring_.dx(k), cy + ring_.dy(k));
+          ring_around(g, row, col, s);
           // The points' spread says little with so few: their sensor variance too, as a
           // ring sample of such a cell has (surface_at).
           ring_.step_test(z, g.variance.at(row, col) + noise_at(g.noise_variance, row, col), s,
@@ -304,10 +309,8 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
       }
 
       if (p.ring_tests && !ev.hazard()) {
-        const double cx = h.x_of_col(col), cy = h.y_of_row(row);
         RingSample s[WheelRing::kSamples];
-        for (int k = 0; k < WheelRing::kSamples; ++k)
-          s[k] = surface_at(g, cx + ring_.dx(k), cy + ring_.dy(k));
+        ring_around(g, row, col, s);
         ring_.slope_test(s, tan_slope, ev);
         // The cell's own height: its plane at the centre (mean's variance), or mu_z with
         // the published variance, which covers the unknown tilt.

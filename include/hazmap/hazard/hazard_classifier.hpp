@@ -102,6 +102,9 @@ class PlaneClassifier final : public HazardClassifier {
   CellNoise cell_noise(const LayerGrids& g, int row, int col) const;
   /// The evaluable cell (row, col)'s plane at (x, y) with its prediction variance.
   RingSample plane_sample(const LayerGrids& g, int row, int col, double x_m, double y_m) const;
+  /// The wheel ring's samples around cell (row, col)'s centre (surface_at each).
+  void ring_around(const LayerGrids& g, int row, int col,
+                   RingSample (&s)[WheelRing::kSamples]) const;
 };
 
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);
