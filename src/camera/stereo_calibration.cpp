@@ -11,7 +11,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/opencv_calibration.hpp"
-#include "../io/yaml_access.hpp"
+#include "io/yaml_access.hpp"
 
 namespace hazmap {
 namespace {

@@ -14,7 +14,7 @@
 #include "hazmap/core/progress.hpp"
 #include <yaml-cpp/yaml.h>
 
-#include "../pipeline/json_writer.hpp"
+#include "io/json_writer.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/eval/plot.hpp"
@@ -158,14 +158,7 @@ void check_run_sequence(const fs::path& run_dir, const fs::path& sequence_dir) {
 DenseGrid read_dense_grid(const fs::path& path) {
   const JdemGrid j = read_jdem(path);
   if (j.yaw_rad != 0.0) throw Error(path.string() + ": rotated grids (yaw != 0) are not supported");
-  DenseGrid g;
-  g.rows = j.rows;
-  g.cols = j.cols;
-  g.resolution_m = j.resolution_m;
-  g.center_x_m = j.center_x_m;
-  g.center_y_m = j.center_y_m;
-  g.values = j.values;
-  return g;
+  return static_cast<const DenseGrid&>(j);
 }
 
 GroundTruth read_ground_truth(const fs::path& sequence_dir) {

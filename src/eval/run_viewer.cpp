@@ -12,7 +12,7 @@
 #include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "../pipeline/json_writer.hpp"
+#include "io/json_writer.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/embedded_grids.hpp"
 #include "hazmap/eval/html_report.hpp"

@@ -85,14 +85,9 @@ HazardAreas hazard_areas(const DenseGrid& hazard) {
 JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::string& units,
                  const std::string& frame_name) {
   JdemGrid j;
+  static_cast<DenseGrid&>(j) = grid;
   j.quantity = quantity;
   j.units = units;
-  j.rows = grid.rows;
-  j.cols = grid.cols;
-  j.resolution_m = grid.resolution_m;
-  j.center_x_m = grid.center_x_m;
-  j.center_y_m = grid.center_y_m;
-  j.values = grid.values;
   if (!frame_name.empty()) j.metadata.emplace_back("frame", frame_name);
   return j;
 }

@@ -17,7 +17,7 @@
 #include "hazmap/pipeline/preflight_check.hpp"
 #include "hazmap/stereo/ground_plane_fit.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
-#include "json_writer.hpp"
+#include "io/json_writer.hpp"
 
 namespace hazmap {
 namespace {

@@ -143,9 +143,7 @@ PointCloudBuilder::PixelGates PointCloudBuilder::pixel_gates(const cv::Mat& disp
   const double fb = geometry_.focal_px * geometry_.baseline_m;
   g.d_min = fb / stereo_.z_max_m;
   g.d_max = fb / stereo_.z_min_m;
-  // 64-bit loop counters: `u += step` in int overflows for a stride near INT_MAX when the
-  // roi starts at x > 0; config validation bounds the stride too.
-  g.step = stereo_.stride;
+  g.step = stereo_.stride;  // 64-bit: see for_each_gated_pixel; validation bounds it too
   g.check_right = roi_right_.area() > 0;
   g.right_u_min = roi_right_.x;
   g.right_u_max = roi_right_.x + roi_right_.width - 1;
@@ -229,6 +227,50 @@ void check_mark_size(const cv::Mat* mark, const cv::Mat& disparity) {
     throw Error("points: the occlusion mark image must be CV_16S of the disparity's size");
 }
 
+/// What became of a pixel that passed the disparity gates.
+enum class PixelFate { kept, below_ground, occluded };
+
+/// The pixel loop both paths share, so that they visit, count and mark alike: every pixel
+/// of the gates' region on the stride grid whose disparity passes goes to
+/// `pixel(row_state, u, v, d16)`, with `row_state = row(v)` computed once per row; the
+/// path's verdict is counted here, and an occluded pixel is marked invalid in
+/// `mark_occluded` (if given; checked by the caller) so that a cloud built later from that disparity image holds
+/// exactly what reached the map.
+template <class Gates, class RowFn, class PixelFn>
+PointDrops for_each_gated_pixel(const cv::Mat& disparity_x16, int invalid_below_x16,
+                                const Gates& gates, cv::Mat* mark_occluded, RowFn&& row,
+                                PixelFn&& pixel) {
+  PointDrops drops;
+  const cv::Rect& roi = gates.roi;
+  // 64-bit counters: `u += step` in int overflows for a stride near INT_MAX when the roi
+  // starts at x > 0.
+  const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
+  const std::int64_t u_end = std::int64_t{roi.x} + roi.width;
+  for (std::int64_t vv = roi.y; vv < v_end; vv += gates.step) {
+    const int v = static_cast<int>(vv);
+    const int16_t* disparity_row = disparity_x16.ptr<int16_t>(v);
+    const auto row_state = row(v);
+    for (std::int64_t uu = roi.x; uu < u_end; uu += gates.step) {
+      const int u = static_cast<int>(uu);
+      const int d16 = disparity_row[u];
+      if (!gates.disparity_ok(u, d16, invalid_below_x16)) continue;
+      switch (pixel(row_state, u, v, d16)) {
+        case PixelFate::kept:
+          break;
+        case PixelFate::below_ground:
+          ++drops.below_ground;
+          break;
+        case PixelFate::occluded:
+          ++drops.occluded;
+          if (mark_occluded)
+            mark_occluded->at<int16_t>(v, u) = static_cast<int16_t>(invalid_below_x16);
+          break;
+      }
+    }
+  }
+  return drops;
+}
+
 }  // namespace
 
 PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int invalid_below_x16,
@@ -245,63 +287,51 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
   const PixelGates gates = pixel_gates(disparity_x16);
   const OcclusionGate occlusion = occlusion_gate(terrain);
   const Eigen::RowVector3d up_B = T_B_Cr_.linear().row(2);
-  PointDrops drops;
-  const cv::Rect& roi = gates.roi;
-  const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
-  const std::int64_t u_end = std::int64_t{roi.x} + roi.width;
-  for (std::int64_t vv = roi.y; vv < v_end; vv += gates.step) {
-    const int v = static_cast<int>(vv);
-    const int16_t* row = disparity_x16.ptr<int16_t>(v);
-    const double reach_row = occlusion_depth_m(v);
-    const double near_row = near_depth_m(v);
-    for (std::int64_t uu = roi.x; uu < u_end; uu += gates.step) {
-      const int u = static_cast<int>(uu);
-      const int d16 = row[u];
-      if (!gates.disparity_ok(u, d16, invalid_below_x16)) continue;
-      const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d16 / 16.0);
-      const double drop = up_B.dot(p_C);  // camera -> point, along body z
-      if (gates.below_ground(drop, [&] { return p_C.squaredNorm(); })) {
-        ++drops.below_ground;
-        continue;
-      }
-      const Eigen::Vector3d ray_W = R * p_C;  // camera -> point in W
-      if (occlusion.on &&
-          occlusion.blocked(t, ray_W * (1.0 / p_C.z()), p_C.z(), reach_row, near_row)) {
-        ++drops.occluded;
-        if (mark_occluded) mark_occluded->at<int16_t>(v, u) = static_cast<int16_t>(invalid_below_x16);
-        continue;
-      }
-      Measurement m{};
-      m.p_W = (ray_W + t).cast<float>();
-      if (model_ == SensorModel::axis) {
-        // diag(a, a, b) rotated into W is a I + (b - a) c c^T, c = R's third column (the
-        // optical axis in W): no matrix products per point.
-        const AxisVariances var = axis_variances(geometry_, p_C.z(), sensor_.pointing_error_px,
-                                                 sensor_.disparity_error_px);
-        const double a = var.lateral_m2, k = var.depth_m2 - a;
-        m.cov_xx = static_cast<float>(a + k * axis_W.x() * axis_W.x());
-        m.cov_xy = static_cast<float>(k * axis_W.x() * axis_W.y());
-        m.cov_xz = static_cast<float>(k * axis_W.x() * axis_W.z());
-        m.cov_yy = static_cast<float>(a + k * axis_W.y() * axis_W.y());
-        m.cov_yz = static_cast<float>(k * axis_W.y() * axis_W.z());
-        m.cov_zz = static_cast<float>(a + k * axis_W.z() * axis_W.z());
-      } else {
-        const Eigen::Matrix3d cov_C = covariance_ray(geometry_, u, v, d16 / 16.0,
-                                                     sensor_.pointing_error_px,
-                                                     sensor_.disparity_error_px);
-        const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
-        m.cov_xx = static_cast<float>(cov_W(0, 0));
-        m.cov_xy = static_cast<float>(cov_W(0, 1));
-        m.cov_xz = static_cast<float>(cov_W(0, 2));
-        m.cov_yy = static_cast<float>(cov_W(1, 1));
-        m.cov_yz = static_cast<float>(cov_W(1, 2));
-        m.cov_zz = static_cast<float>(cov_W(2, 2));
-      }
-      cloud.push_back(m);
-      if (pixels) pixels->emplace_back(u, v);
+  struct Row {
+    double reach_m, near_m;  // the row's occlusion and near-field depths
+  };
+  const auto row = [&](int v) { return Row{occlusion_depth_m(v), near_depth_m(v)}; };
+  const auto pixel = [&](const Row& r, int u, int v, int d16) {
+    const Eigen::Vector3d p_C = triangulate(geometry_, u, v, d16 / 16.0);
+    const double drop = up_B.dot(p_C);  // camera -> point, along body z
+    if (gates.below_ground(drop, [&] { return p_C.squaredNorm(); }))
+      return PixelFate::below_ground;
+    const Eigen::Vector3d ray_W = R * p_C;  // camera -> point in W
+    if (occlusion.on &&
+        occlusion.blocked(t, ray_W * (1.0 / p_C.z()), p_C.z(), r.reach_m, r.near_m))
+      return PixelFate::occluded;
+    Measurement m{};
+    m.p_W = (ray_W + t).cast<float>();
+    if (model_ == SensorModel::axis) {
+      // diag(a, a, b) rotated into W is a I + (b - a) c c^T, c = R's third column (the
+      // optical axis in W): no matrix products per point.
+      const AxisVariances var = axis_variances(geometry_, p_C.z(), sensor_.pointing_error_px,
+                                               sensor_.disparity_error_px);
+      const double a = var.lateral_m2, k = var.depth_m2 - a;
+      m.cov_xx = static_cast<float>(a + k * axis_W.x() * axis_W.x());
+      m.cov_xy = static_cast<float>(k * axis_W.x() * axis_W.y());
+      m.cov_xz = static_cast<float>(k * axis_W.x() * axis_W.z());
+      m.cov_yy = static_cast<float>(a + k * axis_W.y() * axis_W.y());
+      m.cov_yz = static_cast<float>(k * axis_W.y() * axis_W.z());
+      m.cov_zz = static_cast<float>(a + k * axis_W.z() * axis_W.z());
+    } else {
+      const Eigen::Matrix3d cov_C = covariance_ray(geometry_, u, v, d16 / 16.0,
+                                                   sensor_.pointing_error_px,
+                                                   sensor_.disparity_error_px);
+      const Eigen::Matrix3d cov_W = R * cov_C * R.transpose();
+      m.cov_xx = static_cast<float>(cov_W(0, 0));
+      m.cov_xy = static_cast<float>(cov_W(0, 1));
+      m.cov_xz = static_cast<float>(cov_W(0, 2));
+      m.cov_yy = static_cast<float>(cov_W(1, 1));
+      m.cov_yz = static_cast<float>(cov_W(1, 2));
+      m.cov_zz = static_cast<float>(cov_W(2, 2));
     }
-  }
-  return drops;
+    cloud.push_back(m);
+    if (pixels) pixels->emplace_back(u, v);
+    return PixelFate::kept;
+  };
+  return for_each_gated_pixel(disparity_x16, invalid_below_x16, gates, mark_occluded, row,
+                              pixel);
 }
 
 std::size_t PointCloudBuilder::build_map_points(const cv::Mat& disparity_x16, int invalid_below_x16,
@@ -326,7 +356,7 @@ PointDrops PointCloudBuilder::map_points_impl(const cv::Mat& disparity_x16, int 
                                               cv::Mat* mark_occluded) const {
   if (!supports_map_points())
     throw Error("points: the direct map-points path needs sensor.model axis");
-  check_mark_size(mark_occluded, disparity_x16);
+  check_mark_size(mark_occluded, disparity_x16);  // before the fill: `out` stays untouched
   const Pose3d T_W_Cr = rectified_camera_pose(T_W_B);
   const Eigen::Matrix3d R = T_W_Cr.linear();
   const Eigen::Vector3d t = T_W_Cr.translation();
@@ -355,57 +385,51 @@ PointDrops PointCloudBuilder::map_points_impl(const cv::Mat& disparity_x16, int 
       static_cast<std::size_t>((roi.width + gates.step - 1) / gates.step);
   const MapPoints::Fill fill = out.begin_fill(max_points);
   int n = 0;
-  PointDrops drops;
-  const std::int64_t v_end = std::int64_t{roi.y} + roi.height;
-  const std::int64_t u_end = std::int64_t{roi.x} + roi.width;
-  for (std::int64_t vv = roi.y; vv < v_end; vv += gates.step) {
-    const int v = static_cast<int>(vv);
-    const int16_t* row = disparity_x16.ptr<int16_t>(v);
+  struct Row {
+    Eigen::Vector3f ray;  // camera -> pixel (u = 0) in W per metre of Z
+    float up;             // its component along body z
+    float ry2_1;          // (v - cy)^2 / f^2 + 1
+    double reach_m, near_m;
+  };
+  const auto row = [&](int v) {
     const double ry = (v - cy) / f;
-    const Eigen::Vector3f ray_row = (R * Eigen::Vector3d(-cx / f, ry, 1.0)).cast<float>();
-    const float up_row = static_cast<float>(up_B.dot(Eigen::Vector3d(-cx / f, ry, 1.0)));
-    const float ry2_1 = static_cast<float>(ry * ry + 1.0);
-    const double reach_row = occlusion_depth_m(v);
-    const double near_row = near_depth_m(v);
-    for (std::int64_t uu = roi.x; uu < u_end; uu += gates.step) {
-      const int u = static_cast<int>(uu);
-      const int d16 = row[u];
-      if (!gates.disparity_ok(u, d16, invalid_below_x16)) continue;
-      const float uf = static_cast<float>(u);
-      const float z = fbf * 16.0f / static_cast<float>(d16);
-      const float drop = z * (up_row + uf * up_du);
-      if (gates.below_ground(drop, [&] {
-            const float rx = static_cast<float>((u - cx) / f);
-            return z * z * (rx * rx + ry2_1);
-          })) {
-        ++drops.below_ground;
-        continue;
-      }
-      const Eigen::Vector3f ray = ray_row + uf * du;  // camera -> point in W per metre of Z
-      if (occlusion.on && occlusion.blocked(t, ray.cast<double>(), z, reach_row, near_row)) {
-        ++drops.occluded;
-        if (mark_occluded) mark_occluded->at<int16_t>(v, u) = static_cast<int16_t>(invalid_below_x16);
-        continue;
-      }
-      const Eigen::Vector3f p = z * ray + tf;
-      const float z2 = z * z;
-      const float a = la * z2, b = lb * z2 * z2, k = b - a;
-      fill.x[n] = p.x();
-      fill.y[n] = p.y();
-      fill.z[n] = p.z();
-      const float var_z = a + k * cz2;
-      fill.var_z[n] = var_z;
-      fill.inv_var_z[n] = 1.0f / var_z;
-      fill.lateral_var[n] = a + std::max(k, 0.0f) * ch2;
-      if (weighting == CcmWeighting::trace) {
-        fill.ccm_weight[n] = static_cast<float>(1.0 / (2.0 * a + b));
-      } else if (weighting == CcmWeighting::det) {
-        // In double: a^2 b of a near point is ~1e-24 m^6.
-        fill.ccm_weight[n] = static_cast<float>(1.0 / (double(a) * a * b));
-      }
-      ++n;
+    const Eigen::Vector3d r(-cx / f, ry, 1.0);
+    return Row{(R * r).cast<float>(), static_cast<float>(up_B.dot(r)),
+               static_cast<float>(ry * ry + 1.0), occlusion_depth_m(v), near_depth_m(v)};
+  };
+  const auto pixel = [&](const Row& r, int u, int, int d16) {
+    const float uf = static_cast<float>(u);
+    const float z = fbf * 16.0f / static_cast<float>(d16);
+    const float drop = z * (r.up + uf * up_du);
+    if (gates.below_ground(drop, [&] {
+          const float rx = static_cast<float>((u - cx) / f);
+          return z * z * (rx * rx + r.ry2_1);
+        }))
+      return PixelFate::below_ground;
+    const Eigen::Vector3f ray = r.ray + uf * du;  // camera -> point in W per metre of Z
+    if (occlusion.on && occlusion.blocked(t, ray.cast<double>(), z, r.reach_m, r.near_m))
+      return PixelFate::occluded;
+    const Eigen::Vector3f p = z * ray + tf;
+    const float z2 = z * z;
+    const float a = la * z2, b = lb * z2 * z2, k = b - a;
+    fill.x[n] = p.x();
+    fill.y[n] = p.y();
+    fill.z[n] = p.z();
+    const float var_z = a + k * cz2;
+    fill.var_z[n] = var_z;
+    fill.inv_var_z[n] = 1.0f / var_z;
+    fill.lateral_var[n] = a + std::max(k, 0.0f) * ch2;
+    if (weighting == CcmWeighting::trace) {
+      fill.ccm_weight[n] = static_cast<float>(1.0 / (2.0 * a + b));
+    } else if (weighting == CcmWeighting::det) {
+      // In double: a^2 b of a near point is ~1e-24 m^6.
+      fill.ccm_weight[n] = static_cast<float>(1.0 / (double(a) * a * b));
     }
-  }
+    ++n;
+    return PixelFate::kept;
+  };
+  const PointDrops drops =
+      for_each_gated_pixel(disparity_x16, invalid_below_x16, gates, mark_occluded, row, pixel);
   out.end_fill(n, weighting == CcmWeighting::constant);
   return drops;
 }

@@ -12,7 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/camera/stereo_calibration.hpp"
-#include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/camera/stereo_geometry.hpp"
 
 namespace hazmap {
 

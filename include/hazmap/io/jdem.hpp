@@ -24,24 +24,21 @@
 #include <utility>
 #include <vector>
 
+#include "hazmap/map/dense_grid.hpp"
+
 namespace hazmap {
 
-struct JdemGrid {
+/// A JDEM file: a dense grid (map/dense_grid.hpp: size, resolution, centre, values in
+/// image order) and the header's other keys. The grid's geometry helpers assume yaw 0;
+/// every reader of rotated grids rejects them.
+struct JdemGrid : DenseGrid {
   std::string quantity = "height";
   std::string units = "m";
-  int rows = 0;
-  int cols = 0;
-  double resolution_m = 0.0;
-  double center_x_m = 0.0;  ///< W coordinates of the grid's geometric centre
-  double center_y_m = 0.0;
   double yaw_rad = 0.0;
   std::string nodata = "nan";  ///< token written for NaN cells ("nan" or a number)
   /// Other header keys in file order, e.g. {"frame", "000123"}.
   std::vector<std::pair<std::string, std::string>> metadata;
-  std::vector<float> values;  ///< row-major, rows * cols, NaN = no data
 
-  float& at(int row, int col) { return values[static_cast<size_t>(row) * cols + col]; }
-  float at(int row, int col) const { return values[static_cast<size_t>(row) * cols + col]; }
   /// Value of a metadata key, or "" when absent.
   std::string meta(const std::string& key) const;
 };

@@ -1,7 +1,6 @@
 #pragma once
-// Triangulation and the per-point covariance of a rectified stereo pair (SPEC 3.3, 4), and
-// where the rectified left camera sits on the body;
-// the CCM weight derived from it is in map/map_points.hpp. Pure functions of their
+// Triangulation and the per-point covariance of a rectified stereo pair (SPEC 3.3, 4)
+// (its geometry: camera/stereo_geometry.hpp); the CCM weight derived from it is in map/map_points.hpp. Pure functions of their
 // inputs; frame C' is the rectified left camera (x right, y down, z forward), pixels
 // (u, v), disparity d in pixels.
 
@@ -9,23 +8,10 @@
 
 #include <Eigen/Core>
 
+#include "hazmap/camera/stereo_geometry.hpp"
 #include "hazmap/core/types.hpp"
 
 namespace hazmap {
-
-/// Pose of the rectified left camera C' in the body: T_B_C * R1^T (p_C' = R1 p_C).
-inline Pose3d rectified_camera_in_body(const Pose3d& T_B_C, const Eigen::Matrix3d& R1) {
-  Pose3d T_C_Cr = Pose3d::Identity();
-  T_C_Cr.linear() = R1.transpose();
-  return T_B_C * T_C_Cr;
-}
-
-struct StereoGeometry {
-  double focal_px = 0.0;    ///< f of the rectified pair
-  double baseline_m = 0.0;  ///< B > 0
-  double cx_px = 0.0;
-  double cy_px = 0.0;
-};
 
 enum class SensorModel { axis, ray };
 

@@ -1,5 +1,6 @@
 #pragma once
-// Minimal JSON emitter for summary files (private to the library).
+// Minimal JSON emitter for summary files, reports and pages (private to the library:
+// included as "io/json_writer.hpp" from src/).
 
 #include <cmath>
 #include <cstdio>
