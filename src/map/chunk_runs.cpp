@@ -167,4 +167,12 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
   }
 }
 
+void ChunkRuns::find(const int* slot, int count) {
+  runs_ = find_runs(slot, count, starts_.data(), slots_.data());
+}
+
+void ChunkRuns::sum_heights(const float* w, const float* z) {
+  run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data(), first_z_.data());
+}
+
 }  // namespace hazmap

@@ -11,9 +11,11 @@
 //   chunk_slots.hpp      insertion pass 1: each point -> its storage slot (SIMD), or
 //                        kNoSlot outside the window or over the lateral-variance gate
 //   layer_insertion.hpp  the SPEC 4 consistency gate, then pass 2: the runs of equal slots
-//                        to the cells, merged straight into them (Rule::kMergePerRun:
-//                        Kalman, the baseline) or summed into per-frame accumulators and
-//                        merged once per frame (CCM, OMG)
+//                        to the cells, as the rule's merge policy says (Rule::kMerge,
+//                        rules/merge_policy.hpp): merged straight into their cells
+//                        (per_run, per_chunk: the baseline, Kalman) or summed into
+//                        per-frame accumulators and merged once per frame (per_frame:
+//                        CCM, OMG)
 //   layer_export.hpp     the cells -> published grids, plus the pose uncertainty (SPEC 7)
 // All buffers are allocated in the constructor.
 //
@@ -60,11 +62,11 @@ class RollingLayer final : public Layer {
         gate_var_(gate_std_m > 0 ? static_cast<float>(gate_std_m * gate_std_m)
                                  : std::numeric_limits<float>::infinity()),
         cells_(cell_count(), config, pooled),
-        accumulators_(Rule::kMergePerRun ? 0 : cell_count()),
+        accumulators_(merges_runs(Rule::kMerge) ? 0 : cell_count()),
         slot_buf_(PointChunk::kStride, kNoSlot),
         x_buf_(PointChunk::kStride, 0.0f),
         y_buf_(PointChunk::kStride, 0.0f),
-        runs_(Rule::kUsesHeightSums),
+        runs_(/*height_sums=*/Rule::kMerge == MergePolicy::per_chunk),
         prior_(pooled ? cell_count() : 0),
         covered_(pooled ? cell_count() : 0, 0) {}
 
@@ -103,13 +105,16 @@ class RollingLayer final : public Layer {
       if (cells_.config().gate_sigma > 0)
         gates_.consistency_gate += layer_insertion::gate_heights(cells_, covered(), chunk, slot);
     // Pass 2: the runs of equal slots to the cells (internal/layer_insertion.hpp).
-    if constexpr (Rule::kMergePerRun)
+    if constexpr (merges_runs(Rule::kMerge))
       return layer_insertion::merge_runs(cells_, covered(), runs_, slot, chunk);
     else
       return accumulators_.add_runs(cells_, covered(), chunk, slot, x_buf_.data(), y_buf_.data());
   }
 
-  void end_insert() override { accumulators_.merge_into(cells_, grid_.resolution_m()); }
+  void end_insert() override {
+    if constexpr (Rule::kMerge == MergePolicy::per_frame)
+      accumulators_.merge_into(cells_, grid_.resolution_m());
+  }
 
   void update_coverage(const RollingGrid& finer) override {
     if (!pooled()) return;
@@ -268,11 +273,11 @@ class RollingLayer final : public Layer {
   float gate_var_;
   GateCounts gates_;  ///< this insertion's gate drops
   LayerCells<Rule> cells_;
-  layer_insertion::FrameAccumulators<Rule> accumulators_;  ///< per-frame rules only
+  layer_insertion::FrameAccumulators<Rule> accumulators_;  ///< MergePolicy::per_frame only
   // Per-chunk scratch: slot (kNoSlot: dropped) and cell-centred x, y of each point.
   std::vector<int> slot_buf_;
   std::vector<float> x_buf_, y_buf_;
-  ChunkRuns runs_;  ///< the chunk's runs (merge-per-run rules)
+  ChunkRuns runs_;  ///< the chunk's runs (MergePolicy::per_run, per_chunk)
   // Pooled layers only (finest_then_pool, SPEC 5): each cell's state when a finer layer
   // came to cover it, and whether one covers it now.
   std::vector<typename Rule::Cell> prior_;

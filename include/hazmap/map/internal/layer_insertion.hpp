@@ -4,10 +4,10 @@
 // point its slot, kNoSlot when dropped): the SPEC 4 consistency gate, and pass 2, which
 // takes the chunk's runs of equal slots to the cells in one of two ways (docs/insertion.md):
 //
-//   merge_runs           rules whose merge does not depend on how a frame's points are
-//                        grouped (Kalman, the baseline): the chunk's run list (ChunkRuns),
-//                        then one merge per run straight into its cell.
-//   FrameAccumulators    rules whose weight cap acts once per frame (CCM, OMG,
+//   merge_runs           MergePolicy::per_run, per_chunk (the baseline, Kalman): the
+//                        chunk's run list (ChunkRuns), then each run merged straight
+//                        into its cell.
+//   FrameAccumulators    MergePolicy::per_frame (CCM, OMG; caps that act once per frame,
 //                        SPEC 6.3-6.4): each run summed into its cell's frame accumulator;
 //                        merge_into merges each touched cell once, at the frame's end.
 //
@@ -24,6 +24,7 @@
 #include "hazmap/map/internal/layer_cells.hpp"
 #include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/merge_policy.hpp"
 
 namespace hazmap {
 namespace layer_insertion {
@@ -108,14 +109,15 @@ std::size_t merge_run_list(LayerCells<Rule>& cells_in, const unsigned char* cove
   return used;
 }
 
-/// Pass 2 for rules that merge each run straight into its cell: the chunk's runs as a
-/// list (internal/chunk_runs.hpp), then one merge per run. Returns the points merged.
+/// Pass 2 for rules that merge each run straight into its cell (MergePolicy::per_run,
+/// per_chunk): the chunk's runs as a list (internal/chunk_runs.hpp), then one merge per
+/// run, or (per_chunk, unpooled) the whole list to the rule. Returns the points merged.
 template <class Rule>
 std::size_t merge_runs(LayerCells<Rule>& cells, const unsigned char* covered, ChunkRuns& runs,
                        const int* slot, const PointChunk& chunk) {
   runs.find(slot, chunk.size);
-  if constexpr (Rule::kUsesHeightSums) runs.sum_heights(Rule::weights(chunk), chunk.z);
-  if constexpr (Rule::kMergesChunks) {
+  if constexpr (Rule::kMerge == MergePolicy::per_chunk) {
+    runs.sum_heights(Rule::weights(chunk), chunk.z);
     // The rule merges a whole chunk's runs itself, except on pooled layers.
     if (covered == nullptr)
       return Rule::merge_chunk_runs(cells.config(), cells.data(), cells.frame(), runs);
@@ -126,7 +128,8 @@ std::size_t merge_runs(LayerCells<Rule>& cells, const unsigned char* covered, Ch
   }
 }
 
-/// Pass 2 for rules whose weight cap acts once per frame (CCM, OMG): a frame's sums per
+/// Pass 2 for rules whose weight cap acts once per frame (MergePolicy::per_frame: CCM,
+/// OMG): a frame's sums per
 /// touched cell. A sparse set: frame_index_[slot] is valid only if touched_ points back to
 /// slot; the accumulators are packed in touch order, so they stay in cache. Sized once,
 /// one entry per cell (none for rules that merge per run).
