@@ -108,7 +108,8 @@ class RollingLayer final : public Layer {
     if constexpr (merges_runs(Rule::kMerge))
       return layer_insertion::merge_runs(cells_, covered(), runs_, slot, chunk);
     else
-      return accumulators_.add_runs(cells_, covered(), chunk, slot, x_buf_.data(), y_buf_.data());
+      return accumulators_.add_runs(cells_, covered(), runs_, chunk, slot, x_buf_.data(),
+                                    y_buf_.data());
   }
 
   void end_insert() override {
@@ -277,7 +278,7 @@ class RollingLayer final : public Layer {
   // Per-chunk scratch: slot (kNoSlot: dropped) and cell-centred x, y of each point.
   std::vector<int> slot_buf_;
   std::vector<float> x_buf_, y_buf_;
-  ChunkRuns runs_;  ///< the chunk's runs (MergePolicy::per_run, per_chunk)
+  ChunkRuns runs_;  ///< the chunk's runs
   // Pooled layers only (finest_then_pool, SPEC 5): each cell's state when a finer layer
   // came to cover it, and whether one covers it now.
   std::vector<typename Rule::Cell> prior_;

