@@ -4,19 +4,14 @@
 #include <cstdint>
 #include <cstring>
 
-#include "hazmap/core/kernel.hpp"
-
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define HAZMAP_HAVE_AVX2_RUNS 1
-#endif
+#include "hazmap/map/internal/simd.hpp"
 
 namespace hazmap {
 namespace {
 
-typedef float Vec8 __attribute__((vector_size(32)));
-typedef int Mask8 __attribute__((vector_size(32)));
-typedef int Index8 __attribute__((vector_size(32)));  ///< lane numbers for __builtin_shuffle
+using simd::Vec8;
+using Mask8 = simd::Int8;
+using Index8 = simd::Int8;  ///< lane numbers for __builtin_shuffle
 static_assert(sizeof(Vec8) / sizeof(float) == kRunLanes, "one Vec8 per run, eight runs per batch");
 
 [[gnu::always_inline]] inline void load8(const float* p, Vec8& v) { std::memcpy(&v, p, sizeof v); }
@@ -43,7 +38,7 @@ static_assert(sizeof(Vec8) / sizeof(float) == kRunLanes, "one Vec8 per run, eigh
         __builtin_shuffle(h0123, h4567, Index8{4, 5, 6, 7, 12, 13, 14, 15});
 }
 
-#ifdef HAZMAP_HAVE_AVX2_RUNS
+#ifdef HAZMAP_HAVE_AVX2
 /// For each 8-bit mask, the positions of its set bits, one per byte, lowest first.
 constexpr std::array<std::uint64_t, 256> make_set_bit_table() {
   std::array<std::uint64_t, 256> table{};
@@ -60,7 +55,7 @@ constexpr std::array<std::uint64_t, 256> kSetBits = make_set_bit_table();
 
 static_assert(sizeof(__m256i) / sizeof(int) == kRunLanes, "find_runs compares one __m256i of slots");
 
-__attribute__((target("avx2,popcnt"))) int find_runs_avx2(const int* slot, int count, int* starts,
+HAZMAP_AVX2_KERNEL int find_runs_avx2(const int* slot, int count, int* starts,
                                                           int* run_slot) {
   starts[0] = 0;
   run_slot[0] = slot[0];
@@ -108,9 +103,8 @@ int find_runs_portable(const int* slot, int count, int* starts, int* run_slot) {
 }
 
 int find_runs(const int* slot, int count, int* starts, int* run_slot) {
-#ifdef HAZMAP_HAVE_AVX2_RUNS
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
-  if (avx2 && count > 0) return find_runs_avx2(slot, count, starts, run_slot);
+#ifdef HAZMAP_HAVE_AVX2
+  if (simd::has_avx2() && count > 0) return find_runs_avx2(slot, count, starts, run_slot);
 #endif
   return find_runs_portable(slot, count, starts, run_slot);
 }
@@ -165,6 +159,14 @@ HAZMAP_KERNEL void run_height_sums(const int* starts, int runs, const float* w, 
     std::memcpy(sum_w + r0, &tw, sizeof tw);
     std::memcpy(sum_wz + r0, &twz, sizeof twz);
   }
+}
+
+void ChunkRuns::find(const int* slot, int count) {
+  runs_ = find_runs(slot, count, starts_.data(), slots_.data());
+}
+
+void ChunkRuns::sum_heights(const float* w, const float* z) {
+  run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data(), first_z_.data());
 }
 
 }  // namespace hazmap

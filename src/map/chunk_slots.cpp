@@ -1,12 +1,8 @@
 #include "hazmap/map/internal/chunk_slots.hpp"
 
-#include "hazmap/core/kernel.hpp"
-
 #include <limits>
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#endif
+#include "hazmap/map/internal/simd.hpp"
 
 namespace hazmap {
 namespace {
@@ -84,7 +80,7 @@ int locate_portable(const PointChunk& c, const WindowIndex& w, float gate_var, i
   return gate ? locate_cells(c, w, gate_var, slot) : locate_cells_open(c, w, slot);
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
+#ifdef HAZMAP_HAVE_AVX2
 /// The same with AVX2 intrinsics. The cell index comes from one truncation of f + 1 (f
 /// the position in cells, f + 1 from one FMA): for f >= -1 that is floor(f) + 1, and
 /// everything else (f < -1, NaN, overflow) lands outside the bounds test, which is one
@@ -96,7 +92,7 @@ static_assert(sizeof(__m256i) / sizeof(int) == kLocateLanes, "one __m256i of slo
 static_assert(sizeof(__m256) / sizeof(float) == kLocateLanes, "one __m256 of points per step");
 
 template <bool kPlane, bool kGate>
-__attribute__((target("avx2,fma"))) int locate_avx2(const PointChunk& c, const WindowIndex& w,
+HAZMAP_AVX2_KERNEL int locate_avx2(const PointChunk& c, const WindowIndex& w,
                                                     float gate_var, int* slot, float* cx,
                                                     float* cy) {
   const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f);
@@ -151,8 +147,7 @@ __attribute__((target("avx2,fma"))) int locate_avx2(const PointChunk& c, const W
 }
 
 bool use_avx2(const WindowIndex& w) {
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return avx2 && w.size < (1 << 15);
+  return simd::has_avx2() && w.size < (1 << 15);
 }
 #else
 template <bool kPlane, bool kGate>

@@ -2,10 +2,7 @@
 
 #include "hazmap/map/internal/lazy_ageing.hpp"
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define HAZMAP_HAVE_AVX2_KALMAN 1
-#endif
+#include "hazmap/map/internal/simd.hpp"
 
 namespace hazmap {
 
@@ -32,13 +29,13 @@ std::size_t KalmanRule::merge_chunk_runs_scalar(const Config& cfg, Cell* cells, 
   return merge_one_by_one(cfg, cells, frame, runs, 0, runs.size());
 }
 
-#ifdef HAZMAP_HAVE_AVX2_KALMAN
+#ifdef HAZMAP_HAVE_AVX2
 namespace {
 
 static_assert(sizeof(KalmanRule::Cell) == 16, "cell = ref, off, precision, stamp");
 
 /// KalmanRule::merge_run on four lanes of doubles (same steps, same order).
-[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) void merge4(
+[[gnu::always_inline]] inline HAZMAP_AVX2_KERNEL void merge4(
     __m256d ref, __m256d off, __m256d p, __m256d z_ref, __m256d w, __m256d wz, __m256d owed,
     __m256d q, __m256d cap, __m128& new_ref, __m128& new_off, __m128& new_p) {
   const __m256d one = _mm256_set1_pd(1.0);
@@ -56,15 +53,15 @@ static_assert(sizeof(KalmanRule::Cell) == 16, "cell = ref, off, precision, stamp
   new_p = _mm256_cvtpd_ps(_mm256_min_pd(_mm256_mul_pd(_mm256_mul_pd(a, a), r), cap));
 }
 
-[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) __m256d lo(__m256 v) {
+[[gnu::always_inline]] inline HAZMAP_AVX2_KERNEL __m256d lo(__m256 v) {
   return _mm256_cvtps_pd(_mm256_castps256_ps128(v));
 }
-[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) __m256d hi(__m256 v) {
+[[gnu::always_inline]] inline HAZMAP_AVX2_KERNEL __m256d hi(__m256 v) {
   return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
 }
 
 /// merge4 on eight float lanes: both halves in double.
-[[gnu::always_inline]] inline __attribute__((target("avx2,fma"))) void merge_lanes(
+[[gnu::always_inline]] inline HAZMAP_AVX2_KERNEL void merge_lanes(
     __m256 ref, __m256 off, __m256 p, __m256 z_ref, __m256 w, __m256 wz, __m256 owed, __m256d q,
     __m256d cap, __m256& new_ref, __m256& new_off, __m256& new_p) {
   __m128 r0, o0, p0, r1, o1, p1;
@@ -75,7 +72,7 @@ static_assert(sizeof(KalmanRule::Cell) == 16, "cell = ref, off, precision, stamp
   new_p = _mm256_set_m128(p1, p0);
 }
 
-__attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Config& cfg,
+HAZMAP_AVX2_KERNEL std::size_t merge_avx2(const KalmanRule::Config& cfg,
                                                            KalmanRule::Cell* cells,
                                                            std::uint32_t frame,
                                                            const ChunkRuns& runs) {
@@ -177,9 +174,8 @@ __attribute__((target("avx2,fma"))) std::size_t merge_avx2(const KalmanRule::Con
 
 std::size_t KalmanRule::merge_chunk_runs(const Config& cfg, Cell* cells, std::uint32_t frame,
                                          const ChunkRuns& runs) {
-#ifdef HAZMAP_HAVE_AVX2_KALMAN
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (avx2) return merge_avx2(cfg, cells, frame, runs);
+#ifdef HAZMAP_HAVE_AVX2
+  if (simd::has_avx2()) return merge_avx2(cfg, cells, frame, runs);
 #endif
   return merge_chunk_runs_scalar(cfg, cells, frame, runs);
 }

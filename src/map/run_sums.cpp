@@ -3,15 +3,14 @@
 #include <cstdint>
 #include <cstring>
 
-#include "hazmap/core/kernel.hpp"
+#include "hazmap/map/internal/simd.hpp"
 
 namespace hazmap {
 namespace {
 
-// GCC / Clang vector extensions: SSE on x86-64, NEON on ARM, wider where enabled.
-typedef float Vec4 __attribute__((vector_size(16)));
-typedef int Mask4 __attribute__((vector_size(16)));
-typedef int Int8 __attribute__((vector_size(32)));
+using simd::Int8;
+using simd::Mask4;
+using simd::Vec4;
 static_assert(sizeof(Vec4) / sizeof(float) == kRunPointLanes, "one Vec4 of points per step");
 static_assert(sizeof(Int8) / sizeof(int) == kRunEndLanes, "one Int8 of slots per step");
 

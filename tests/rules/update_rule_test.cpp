@@ -35,15 +35,12 @@ namespace {
 /// plane. Pooling (finest_then_pool) sees a cell as one height sample, like the baseline.
 struct MinHeightRule {
   static constexpr const char* kName = "min_height";
-  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  // Traits (rules/update_rule.hpp), the same four in the same order in every rule:
   /// Piecewise-constant cells: height and variance, no plane.
   static constexpr bool kHasPlane = false;
-  /// The minimum is the same whatever the grouping: runs merge straight into their cells.
-  static constexpr bool kMergePerRun = true;
-  /// run_sums reads the run's points from the chunk, not ChunkRuns' height sums.
-  static constexpr bool kUsesHeightSums = false;
-  /// The layer merges the runs one by one (merge_run).
-  static constexpr bool kMergesChunks = false;
+  /// The minimum is the same whatever the grouping: runs merge one by one straight into
+  /// their cells (run_sums reads the run's points from the chunk).
+  static constexpr MergePolicy kMerge = MergePolicy::per_run;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
   /// No SPEC 4 consistency gate.
@@ -77,17 +74,14 @@ struct MinHeightRule {
     }
     return s;
   }
-  static void merge_frame(const Config&, Cell& c, const Sums& s, double z_ref_m, double) {
+  static void merge_run(const Config&, Cell& c, const Sums& s, double z_ref_m, std::uint32_t,
+                        double) {
     if (!(s.min_dz < std::numeric_limits<double>::infinity())) return;
     const auto z = static_cast<float>(z_ref_m + s.min_dz);  // exact: a float plus its offset
     if (!known(c) || z < c.height_m) {
       c.height_m = z;
       c.variance_m2 = s.var;
     }
-  }
-  static void merge_run(const Config& cfg, Cell& c, const Sums& s, double z_ref_m, std::uint32_t,
-                        double) {
-    merge_frame(cfg, c, s, z_ref_m, 0.0);
   }
   static double max_precision(const Config&) { return 0.0; }
   static Moments to_moments(const Cell& c) {
@@ -117,6 +111,13 @@ static_assert(check_update_rule<KalmanRule>());
 static_assert(check_update_rule<OmgRule>());
 static_assert(check_update_rule<CcmRule>());
 static_assert(check_update_rule<MinHeightRule>());
+
+// The merge policy each rule declares (rules/merge_policy.hpp).
+static_assert(BananasRule::kMerge == MergePolicy::per_run);
+static_assert(KalmanRule::kMerge == MergePolicy::per_chunk);
+static_assert(OmgRule::kMerge == MergePolicy::per_frame);
+static_assert(CcmRule::kMerge == MergePolicy::per_frame);
+static_assert(MinHeightRule::kMerge == MergePolicy::per_run);
 
 constexpr int kSize = 16;       // cells per side
 constexpr double kCell = 0.1;   // m
@@ -349,6 +350,37 @@ TYPED_TEST(UpdateRule, ExportedGridsAreNanWhereNothingWasInserted) {
               << "grid " << g << " " << row << "," << col;
       }
     }
+}
+
+// The merge policy says when inserted points reach the cells: per_run and per_chunk rules
+// merge each chunk's runs while the chunk goes in, so a cell is known as soon as
+// insert_chunk returns; per_frame rules only add to the frame's sums then, and merge once
+// in end_insert. Either way every point inside the window is taken, and after end_insert
+// the cells hold the same heights as after Layer::insert.
+TYPED_TEST(UpdateRule, PointsReachTheCellsWhenTheMergePolicySays) {
+  using Rule = TypeParam;
+  const CellIndex ix = this->x0() + 4, iy = this->y0() + 11;
+  PointCloud cloud;
+  for (int k = 0; k < 12; ++k) cloud.push_back(point_in(ix, iy, 0.1 + 0.07 * k, 0.5, 0.3 + 0.01 * k));
+  const MapPoints points(cloud);
+
+  RollingLayer<Rule> whole(kSize, kCell, typename Rule::Config{});
+  whole.begin_frame(0.0, 0.0, 0);
+  ASSERT_EQ(whole.insert(points), cloud.size());
+
+  this->layer.begin_insert();
+  std::size_t used = 0;
+  points.for_each_chunk([&](const PointChunk& chunk) { used += this->layer.insert_chunk(chunk); });
+  EXPECT_EQ(used, cloud.size());
+  EXPECT_EQ(Rule::known(this->layer.cell(ix, iy)), merges_runs(Rule::kMerge));
+  this->layer.end_insert();
+  ASSERT_TRUE(Rule::known(this->layer.cell(ix, iy)));
+  const LayerGrids a = this->exported();
+  LayerGrids b;
+  whole.export_grids(b, nullptr, 0.0, 0.0);
+  const int row = this->row(iy), col = this->col(ix);
+  EXPECT_EQ(a.height.at(row, col), b.height.at(row, col));
+  EXPECT_EQ(a.variance.at(row, col), b.variance.at(row, col));
 }
 
 }  // namespace

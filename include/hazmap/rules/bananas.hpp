@@ -7,23 +7,21 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/internal/chunk_runs.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/merge_policy.hpp"
+#include "hazmap/rules/run_view.hpp"
 
 namespace hazmap {
 
 struct BananasRule {
   static constexpr const char* kName = "bananas";
-  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  // Traits (rules/update_rule.hpp), the same four in the same order in every rule:
   /// Piecewise-constant cells: height and variance, no plane.
   static constexpr bool kHasPlane = false;
-  /// The last point wins whatever the grouping: runs merge straight into their cells.
-  static constexpr bool kMergePerRun = true;
-  /// run_sums reads the run's last point from the chunk, not ChunkRuns' height sums.
-  static constexpr bool kUsesHeightSums = false;
-  /// The layer merges the runs one by one (merge_run).
-  static constexpr bool kMergesChunks = false;
+  /// The last point wins whatever the grouping: runs merge one by one straight into their
+  /// cells (run_sums reads the run's last point from the chunk).
+  static constexpr MergePolicy kMerge = MergePolicy::per_run;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
   /// No SPEC 4 consistency gate.

@@ -20,20 +20,17 @@
 #include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/merge_policy.hpp"
 
 namespace hazmap {
 
 struct CcmRule {
   static constexpr const char* kName = "ccm";
-  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  // Traits (rules/update_rule.hpp), the same four in the same order in every rule:
   /// Cells fit a plane: the layer exports the plane grids (SPEC 6.4).
   static constexpr bool kHasPlane = true;
   /// The weight cap applies once per frame (SPEC 6.4): runs go to a frame accumulator.
-  static constexpr bool kMergePerRun = false;
-  /// False: a per-frame rule sums its runs itself (add_run); needs kMergePerRun.
-  static constexpr bool kUsesHeightSums = false;
-  /// False: only a rule that merges per run gets a chunk's run list; needs kMergePerRun.
-  static constexpr bool kMergesChunks = false;
+  static constexpr MergePolicy kMerge = MergePolicy::per_frame;
   /// The layer keeps each cell's last-merge frame beside the cells.
   static constexpr bool kStampInCell = false;
   /// No SPEC 4 consistency gate.

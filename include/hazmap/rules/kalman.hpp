@@ -22,24 +22,23 @@
 #include <cstdint>
 #include <limits>
 
-#include "hazmap/map/internal/chunk_runs.hpp"
 #include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/merge_policy.hpp"
+#include "hazmap/rules/run_view.hpp"
 
 namespace hazmap {
 
 struct KalmanRule {
   static constexpr const char* kName = "kalman";
-  // Traits (rules/update_rule.hpp), the same six in the same order in every rule:
+  // Traits (rules/update_rule.hpp), the same four in the same order in every rule:
   /// Piecewise-constant cells: height and variance, no plane.
   static constexpr bool kHasPlane = false;
-  /// A run merges like a frame: the floor applies per run (closer to the per-point recursion).
-  static constexpr bool kMergePerRun = true;
-  /// A run's sums come from ChunkRuns::sum_heights (internal/chunk_runs.hpp).
-  static constexpr bool kUsesHeightSums = true;
-  /// Plain layers hand a chunk's whole run list to merge_chunk_runs.
-  static constexpr bool kMergesChunks = true;
+  /// A run merges like a frame: the floor applies per run (closer to the per-point
+  /// recursion). A run's sums come from ChunkRuns::sum_heights, and plain layers hand a
+  /// chunk's whole run list to merge_chunk_runs (eight runs at once).
+  static constexpr MergePolicy kMerge = MergePolicy::per_chunk;
   /// The cell holds its last-merge frame: a merge then reads and writes one 16-byte cell.
   static constexpr bool kStampInCell = true;
   /// Has the SPEC 4 consistency gate (gate_state).

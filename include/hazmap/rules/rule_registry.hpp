@@ -9,7 +9,8 @@
 //                                   grids (slope_x, slope_y) in outputs, evaluation, viewer,
 //                                   a layer's memory estimate (pipeline.cpp)
 //   pool_family  Rule::kPoolFamily  which layers finest_then_pool may pool together
-//                                   (optional: a rule without it pools only with itself)
+//                                   (optional, rules/update_rule.hpp: a rule without it
+//                                   pools only with itself)
 //
 // and visit_rule(kind, f) calls f(RuleTag<Rule>{}) with the kind's struct, so code that
 // builds something per rule (make_layer) is one template instead of a switch.
@@ -68,11 +69,6 @@ template <class R>
 struct PoolFamily<R, std::void_t<decltype(R::kPoolFamily)>> {
   static constexpr const char* value = R::kPoolFamily;
 };
-
-constexpr bool same_text(const char* a, const char* b) {
-  while (*a != '\0' && *a == *b) ++a, ++b;
-  return *a == *b;
-}
 
 template <class... Entries>
 constexpr bool in_enum_order(RuleEntries<Entries...>) {
@@ -145,7 +141,7 @@ inline bool rule_has_plane(std::string_view name) {
 
 /// Whether finest_then_pool may pool a layer of rule `a` into one of rule `b` (SPEC 5).
 inline bool same_pool_family(RuleKind a, RuleKind b) {
-  return rule_registry_detail::same_text(rule_info(a).pool_family, rule_info(b).pool_family);
+  return std::string_view(rule_info(a).pool_family) == rule_info(b).pool_family;
 }
 
 /// Every rule's name, in RuleKind order.

@@ -10,12 +10,17 @@
 // Config is always passed const (a rule does not change its parameters); a member with
 // the right name but a signature the layer cannot call fails like a missing one. The
 // rules in this folder (bananas, kalman, omg, ccm) are the examples;
-// tests/rules/update_rule_test.cpp has a complete minimal rule (MinHeightRule).
+// tests/rules/update_rule_test.cpp has a complete minimal rule (MinHeightRule). A rule
+// needs only public headers: this one, rules/merge_policy.hpp and rules/run_view.hpp (the
+// runs it is handed), map/point_chunk.hpp and map/moments.hpp; map/internal/ holds the
+// library's own kernels, which the built-in rules use.
 //
 // Every rule:
 //   static constexpr const char* kName                   rule name (Layer::rule_name)
-//   static constexpr bool kHasPlane, kMergePerRun, kUsesHeightSums, kMergesChunks,
-//                         kStampInCell, kHeightGate       (all six, in this order; below)
+//   static constexpr bool kHasPlane                      cells fit a plane (below)
+//   static constexpr MergePolicy kMerge                  how runs reach the cells (below)
+//   static constexpr bool kStampInCell, kHeightGate      (below)
+//     (these four in this order in every rule, so that the rule headers read alike)
 //   struct Config    copyable                             the rule's parameters
 //   struct Cell      default-constructible, copyable      one cell's state (the layer
 //                                                         clears each cell before use)
@@ -24,36 +29,36 @@
 //   clear(Cell&)                                          forget a cell (the window moved)
 //   age(const Config&, Cell&, std::uint32_t frames)       `frames` frames of ageing at once
 //   ages_exports(const Config&) -> bool                   whether age changes the export
-//   merge_frame(const Config&, Cell&, const Sums&, double z_ref_m, double cell_m)
-//                                                         merge a frame's sums into a cell
-//                                                         (also per-run rules: the layer's
-//                                                         end_insert is always compiled)
 //   to_moments(const Cell&) -> Moments                    pooling view of a cell
 //   from_moments(const Config&, Cell&, const Moments&)    store pooled moments in a cell
 //
-// The traits choose the rest:
-//   kMergePerRun: whether a cell's merge is independent of how its points are grouped
-//     true  (runs merged straight into the cell):
-//       run_sums(const PointChunk&, const ChunkRuns&, int r) -> Sums-like  sums of run r
-//       merge_run(const Config&, Cell&, <run_sums result>, double z_first_m,
-//                 std::uint32_t owed_frames, double max_precision)    age, then merge a run
-//       max_precision(const Config&) -> double                         merge_run's cap
-//     false (runs summed into a per-frame accumulator, merged once per frame):
-//       add_run(Sums&, const RunPoints&, double z_ref_m)               add a run to the sums
-//       reference_z(const Cell&) -> float                              accumulator reference
-//       weights(const PointChunk&) -> const float*                     per-point weights
-//   kUsesHeightSums (needs kMergePerRun): the layer sums each run's weighted heights
-//     (ChunkRuns::sum_heights) with weights(const PointChunk&) -> const float*
-//   kMergesChunks (needs kMergePerRun): an unpooled layer hands a chunk's whole run list to
-//       merge_chunk_runs(const Config&, Cell*, std::uint32_t frame, const ChunkRuns&)
-//         -> std::size_t (points merged)
+// The merge policy (kMerge, rules/merge_policy.hpp) is the one choice of insertion path;
+// each policy needs its own members:
+//   per_run (runs merged straight into the cell, one by one; the baseline):
+//     run_sums(const PointChunk&, const ChunkRuns&, int r) -> Sums-like  sums of run r
+//     merge_run(const Config&, Cell&, <run_sums result>, double z_first_m,
+//               std::uint32_t owed_frames, double max_precision)    age, then merge a run
+//     max_precision(const Config&) -> double                         merge_run's cap
+//   per_chunk (Kalman): per_run's members, and
+//     weights(const PointChunk&) -> const float*     the layer sums each run's weighted
+//                                                    heights (ChunkRuns::sum_heights)
+//     merge_chunk_runs(const Config&, Cell*, std::uint32_t frame, const ChunkRuns&)
+//       -> std::size_t (points merged)               an unpooled layer's whole run list
+//   per_frame (runs summed into a per-frame accumulator, merged once per frame; CCM, OMG):
+//     add_run(Sums&, const RunPoints&, double z_ref_m)                add a run to the sums
+//     reference_z(const Cell&) -> float                               accumulator reference
+//     weights(const PointChunk&) -> const float*                      per-point weights
+//     merge_frame(const Config&, Cell&, const Sums&, double z_ref_m, double cell_m)
+//                                                    merge a frame's sums into a cell
+//
+// The other traits:
 //   kStampInCell: the cell holds its last-merge frame as `std::uint32_t stamp` (else the
 //     layer keeps it beside the cells)
 //   kHeightGate: the SPEC 4 consistency gate
 //       Config::gate_sigma (double; 0 = off)
 //       gate_state(const Config&, const Cell&, std::uint32_t owed, double* mu, double* var)
 //         -> bool
-//   kHasPlane (needs !kMergePerRun: the cell-centred x, y reach the rule via add_run only):
+//   kHasPlane (needs per_frame: the cell-centred x, y reach the rule via add_run only):
 //     the cell fits a plane (CCM) and the layer exports the plane grids:
 //       evaluable(const Config&, const Cell&, double cell_m) -> bool
 //       slopes(const Config&, const Cell&, double* a, double* b)
@@ -66,20 +71,22 @@
 //     else (piecewise-constant cells):
 //       height(const Cell&) -> float, variance(const Cell&) -> float   NaN when unknown
 //
+// Optional (not checked here; read by rules/rule_registry.hpp, not by the layer):
+//   static constexpr const char* kPoolFamily   the family of rules whose layers
+//     finest_then_pool may pool together (SPEC 5); without it a rule pools only with
+//     itself (its kName). OMG declares "kalman": both pool as a weighted height.
+//
 // Members a rule may have that the layer does not use (update, mean, ...) are not checked.
-// Each rule declares all six bool traits, also those the layer does not read for it
-// (kUsesHeightSums, kMergesChunks of a rule that does not merge per run), so that the
-// rule headers read alike and no trait is left to a default.
 
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
 #include <utility>
 
-#include "hazmap/map/internal/chunk_runs.hpp"
-#include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/merge_policy.hpp"
+#include "hazmap/rules/run_view.hpp"
 
 namespace hazmap {
 
@@ -130,12 +137,13 @@ using sums_t = typename R::Sums;
   using name##_t = std::enable_if_t<std::is_same_v<std::remove_cv_t<decltype(R::name)>, bool>, \
                                     std::bool_constant<R::name>>;
 HAZMAP_RULE_BOOL_TRAIT(kHasPlane)
-HAZMAP_RULE_BOOL_TRAIT(kMergePerRun)
-HAZMAP_RULE_BOOL_TRAIT(kUsesHeightSums)
-HAZMAP_RULE_BOOL_TRAIT(kMergesChunks)
 HAZMAP_RULE_BOOL_TRAIT(kStampInCell)
 HAZMAP_RULE_BOOL_TRAIT(kHeightGate)
 #undef HAZMAP_RULE_BOOL_TRAIT
+// The merge policy is a constant expression of type MergePolicy.
+template <class R>
+using kMerge_t = std::enable_if_t<std::is_same_v<std::remove_cv_t<decltype(R::kMerge)>, MergePolicy>,
+                                  std::integral_constant<MergePolicy, R::kMerge>>;
 template <class R>
 using name_t = decltype(R::kName);  // RollingLayer::rule_name returns it
 
@@ -156,7 +164,7 @@ using age_t = decltype(R::age(lv<const config_t<R>>(), lv<cell_t<R>>(), std::uin
 // ages_exports() const: return Rule::ages_exports(config_).
 template <class R>
 using ages_exports_t = decltype(R::ages_exports(lv<const config_t<R>>()));
-// end_insert: Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r) with a a
+// (per_frame) FrameAccumulators::merge_into: Rule::merge_frame(config_, cells_[slot], a.sums, a.z_ref, r) with a a
 // `const Accumulator&` (Sums sums; float z_ref).
 template <class R>
 using merge_frame_t =
@@ -169,40 +177,40 @@ using to_moments_t = decltype(R::to_moments(lv<const cell_t<R>>()));
 template <class R>
 using from_moments_t =
     decltype(R::from_moments(lv<const config_t<R>>(), lv<cell_t<R>>(), lv<Moments>()));
-// accumulate_runs: fresh.sums = typename Rule::Sums{}.
+// FrameAccumulators::add_runs: fresh.sums = typename Rule::Sums{}.
 template <class R>
 using sums_assign_t = decltype(lv<sums_t<R>>() = sums_t<R>{});
 
-// ---- kMergePerRun (merge_runs, merge_run_list). ----
+// ---- MergePolicy::per_run, per_chunk (layer_insertion::merge_runs, merge_run_list). ----
 
-// merge_run_list: Rule::run_sums(chunk, runs_, k).
+// layer_insertion::merge_run_list: Rule::run_sums(chunk, runs_, k).
 template <class R>
 using run_sums_t = decltype(R::run_sums(lv<const PointChunk>(), lv<ChunkRuns>(), lv<int>()));
-// merge_run_list: Rule::merge_run(cfg, cells[s], Rule::run_sums(...), z[first],
+// layer_insertion::merge_run_list: Rule::merge_run(cfg, cells[s], Rule::run_sums(...), z[first],
 // owed_frames(frame, last, kPooled), max_precision), cfg a `const Config`.
 template <class R>
 using merge_run_t = decltype(R::merge_run(lv<const config_t<R>>(), lv<cell_t<R>>(),
                                           std::declval<detected_or_t<sums_t<R>, run_sums_t, R>>(),
                                           lv<const float>(), std::uint32_t{}, lv<const double>()));
-// merge_run_list: const double max_precision = Rule::max_precision(cfg).
+// layer_insertion::merge_run_list: const double max_precision = Rule::max_precision(cfg).
 template <class R>
 using max_precision_t = decltype(R::max_precision(lv<const config_t<R>>()));
-// merge_runs: return Rule::merge_chunk_runs(config_, cells_.data(), frame_, runs_).
+// layer_insertion::merge_runs: return Rule::merge_chunk_runs(config_, cells_.data(), frame_, runs_).
 template <class R>
 using merge_chunk_runs_t = decltype(R::merge_chunk_runs(
     lv<const config_t<R>>(), std::declval<cell_t<R>*>(), lv<std::uint32_t>(), lv<ChunkRuns>()));
 
-// ---- !kMergePerRun (accumulate_runs), and kUsesHeightSums (merge_runs). ----
+// ---- MergePolicy::per_frame (FrameAccumulators), and per_chunk (merge_runs). ----
 
-// accumulate_runs: const float* const w = Rule::weights(chunk); merge_runs:
+// FrameAccumulators::add_runs: const float* const w = Rule::weights(chunk); merge_runs:
 // runs_.sum_heights(Rule::weights(chunk), chunk.z).
 template <class R>
 using weights_t = decltype(R::weights(lv<const PointChunk>()));
-// accumulate_runs: fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : z.
+// FrameAccumulators::add_runs: fresh.z_ref = Rule::known(cells_[s]) ? Rule::reference_z(cells_[s]) : z.
 template <class R>
 using reference_z_t =
     decltype(lv<float>() = (true ? R::reference_z(lv<cell_t<R>>()) : lv<const float>()));
-// accumulate_runs: Rule::add_run(a.sums, RunPoints{...}, a.z_ref).
+// FrameAccumulators::add_runs: Rule::add_run(a.sums, RunPoints{...}, a.z_ref).
 template <class R>
 using add_run_t = decltype(R::add_run(lv<sums_t<R>>(), RunPoints{}, lv<float>()));
 
@@ -301,18 +309,10 @@ constexpr bool check_update_rule() {
   static_assert(has_plane,
                 "update rule: needs static constexpr bool kHasPlane -- whether cells fit a "
                 "plane and the layer exports the plane grids");
-  constexpr bool has_per_run = is_detected_v<kMergePerRun_t, Rule>;
-  static_assert(has_per_run,
-                "update rule: needs static constexpr bool kMergePerRun -- whether each run "
-                "of points merges straight into its cell (else once per frame)");
-  constexpr bool has_height_sums = is_detected_v<kUsesHeightSums_t, Rule>;
-  static_assert(has_height_sums,
-                "update rule: needs static constexpr bool kUsesHeightSums -- whether the "
-                "layer sums each run's weighted heights (ChunkRuns::sum_heights)");
-  constexpr bool has_chunks = is_detected_v<kMergesChunks_t, Rule>;
-  static_assert(has_chunks,
-                "update rule: needs static constexpr bool kMergesChunks -- whether the rule "
-                "merges a chunk's whole run list itself (merge_chunk_runs)");
+  constexpr bool has_merge = is_detected_v<kMerge_t, Rule>;
+  static_assert(has_merge,
+                "update rule: needs static constexpr MergePolicy kMerge -- how runs of points "
+                "reach the cells: per_run, per_chunk or per_frame (rules/merge_policy.hpp)");
   constexpr bool has_stamp_trait = is_detected_v<kStampInCell_t, Rule>;
   static_assert(has_stamp_trait,
                 "update rule: needs static constexpr bool kStampInCell -- whether the cell "
@@ -323,8 +323,7 @@ constexpr bool check_update_rule() {
                 "the SPEC 4 consistency gate (gate_state, Config::gate_sigma)");
 
   constexpr bool base = has_config && has_cell && has_sums && has_name && has_plane &&
-                        has_per_run && has_height_sums && has_chunks && has_stamp_trait &&
-                        has_gate_trait;
+                        has_merge && has_stamp_trait && has_gate_trait;
   if constexpr (!base) {
     return false;
   } else {
@@ -345,18 +344,10 @@ constexpr bool check_update_rule() {
                   "-- the layer starts each cell's frame sums from Sums{}");
 
     // Trait consistency.
-    constexpr bool chunks_need_runs = !Rule::kMergesChunks || Rule::kMergePerRun;
-    static_assert(chunks_need_runs,
-                  "update rule: kMergesChunks needs kMergePerRun -- only rules that merge per "
-                  "run get a chunk's run list");
-    constexpr bool sums_need_runs = !Rule::kUsesHeightSums || Rule::kMergePerRun;
-    static_assert(sums_need_runs,
-                  "update rule: kUsesHeightSums needs kMergePerRun -- per-frame rules sum "
-                  "their runs themselves (add_run)");
-    constexpr bool plane_needs_frames = !Rule::kHasPlane || !Rule::kMergePerRun;
+    constexpr bool plane_needs_frames = !Rule::kHasPlane || Rule::kMerge == MergePolicy::per_frame;
     static_assert(plane_needs_frames,
-                  "update rule: kHasPlane needs !kMergePerRun -- the points' cell-centred x, y "
-                  "reach the rule through add_run only");
+                  "update rule: kHasPlane needs kMerge = MergePolicy::per_frame -- the points' "
+                  "cell-centred x, y reach the rule through add_run only");
 
     // Every rule.
     constexpr bool known_ok = is_detected_convertible_v<bool, known_t, Rule>;
@@ -375,11 +366,6 @@ constexpr bool check_update_rule() {
     static_assert(ages_exports_ok,
                   "update rule: needs static bool ages_exports(const Config&) -- whether age() "
                   "changes what a cell exports");
-    constexpr bool merge_frame_ok = is_detected_v<merge_frame_t, Rule>;
-    static_assert(merge_frame_ok,
-                  "update rule: needs static void merge_frame(const Config&, Cell&, const Sums&, "
-                  "double z_ref_m, double cell_m) -- merge a frame's sums (z relative to "
-                  "z_ref_m) into a cell");
     constexpr bool to_moments_ok = is_detected_convertible_v<Moments, to_moments_t, Rule>;
     static_assert(to_moments_ok,
                   "update rule: needs static Moments to_moments(const Cell&) -- a cell as "
@@ -388,55 +374,65 @@ constexpr bool check_update_rule() {
     static_assert(from_moments_ok,
                   "update rule: needs static void from_moments(const Config&, Cell&, const "
                   "Moments&) -- store pooled moments in a cell (clear it if empty)");
-    constexpr bool every_rule = config_ok && cell_ok && sums_ok && chunks_need_runs &&
-                                sums_need_runs && plane_needs_frames && known_ok && clear_ok &&
-                                age_ok && ages_exports_ok && merge_frame_ok && to_moments_ok &&
-                                from_moments_ok;
+    constexpr bool every_rule = config_ok && cell_ok && sums_ok && plane_needs_frames &&
+                                known_ok && clear_ok && age_ok && ages_exports_ok &&
+                                to_moments_ok && from_moments_ok;
 
-    // Merge path.
+    // Merge path: the members of the rule's merge policy.
     bool path_ok = true;
-    if constexpr (Rule::kMergePerRun) {
+    if constexpr (merges_runs(Rule::kMerge)) {
       constexpr bool run_sums_ok = is_detected_v<run_sums_t, Rule>;
       static_assert(run_sums_ok,
-                    "update rule with kMergePerRun: needs static Sums run_sums(const PointChunk&, "
-                    "const ChunkRuns&, int r) -- the sums of run r of a chunk");
+                    "update rule with MergePolicy::per_run or per_chunk: needs static Sums "
+                    "run_sums(const PointChunk&, const ChunkRuns&, int r) -- the sums of run r "
+                    "of a chunk");
       constexpr bool merge_run_ok = is_detected_v<merge_run_t, Rule>;
       static_assert(merge_run_ok,
-                    "update rule with kMergePerRun: needs static void merge_run(const Config&, "
-                    "Cell&, const Sums&, double z_first_m, std::uint32_t owed_frames, double "
-                    "max_precision) -- age a cell, then merge one run's sums into it");
+                    "update rule with MergePolicy::per_run or per_chunk: needs static void "
+                    "merge_run(const Config&, Cell&, const Sums&, double z_first_m, std::uint32_t "
+                    "owed_frames, double max_precision) -- age a cell, then merge one run's sums "
+                    "into it");
       constexpr bool max_precision_ok = is_detected_convertible_v<double, max_precision_t, Rule>;
       static_assert(max_precision_ok,
-                    "update rule with kMergePerRun: needs static double max_precision(const "
-                    "Config&) -- the cap merge_run takes (computed once per chunk)");
+                    "update rule with MergePolicy::per_run or per_chunk: needs static double "
+                    "max_precision(const Config&) -- the cap merge_run takes (computed once per "
+                    "chunk)");
       path_ok = run_sums_ok && merge_run_ok && max_precision_ok;
     } else {
       constexpr bool add_run_ok = is_detected_v<add_run_t, Rule>;
       static_assert(add_run_ok,
-                    "update rule without kMergePerRun: needs static void add_run(Sums&, const "
-                    "RunPoints&, double z_ref_m) -- add a run of points to a cell's frame sums");
+                    "update rule with MergePolicy::per_frame: needs static void add_run(Sums&, "
+                    "const RunPoints&, double z_ref_m) -- add a run of points to a cell's frame "
+                    "sums");
       constexpr bool reference_ok = is_detected_v<reference_z_t, Rule>;
       static_assert(reference_ok,
-                    "update rule without kMergePerRun: needs static float reference_z(const "
-                    "Cell&) -- the height a known cell's frame sums are taken relative to");
-      path_ok = add_run_ok && reference_ok;
+                    "update rule with MergePolicy::per_frame: needs static float "
+                    "reference_z(const Cell&) -- the height a known cell's frame sums are taken "
+                    "relative to");
+      constexpr bool merge_frame_ok = is_detected_v<merge_frame_t, Rule>;
+      static_assert(merge_frame_ok,
+                    "update rule with MergePolicy::per_frame: needs static void merge_frame(const "
+                    "Config&, Cell&, const Sums&, double z_ref_m, double cell_m) -- merge a "
+                    "frame's sums (z relative to z_ref_m) into a cell");
+      path_ok = add_run_ok && reference_ok && merge_frame_ok;
     }
     bool weights_ok = true;
-    if constexpr (!Rule::kMergePerRun || Rule::kUsesHeightSums) {
+    if constexpr (Rule::kMerge != MergePolicy::per_run) {
       constexpr bool ok = is_detected_convertible_v<const float*, weights_t, Rule>;
       static_assert(ok,
-                    "update rule without kMergePerRun or with kUsesHeightSums: needs static const "
+                    "update rule with MergePolicy::per_chunk or per_frame: needs static const "
                     "float* weights(const PointChunk&) -- the points' weights (null: all 1 where "
                     "the rule's add_run allows it)");
       weights_ok = ok;
     }
     bool chunks_ok = true;
-    if constexpr (Rule::kMergesChunks) {
+    if constexpr (Rule::kMerge == MergePolicy::per_chunk) {
       constexpr bool ok = is_detected_convertible_v<std::size_t, merge_chunk_runs_t, Rule>;
       static_assert(ok,
-                    "update rule with kMergesChunks: needs static std::size_t merge_chunk_runs("
-                    "const Config&, Cell*, std::uint32_t frame, const ChunkRuns&) -- merge a "
-                    "chunk's runs into an unpooled layer's cells, returning the points merged");
+                    "update rule with MergePolicy::per_chunk: needs static std::size_t "
+                    "merge_chunk_runs(const Config&, Cell*, std::uint32_t frame, const "
+                    "ChunkRuns&) -- merge a chunk's runs into an unpooled layer's cells, "
+                    "returning the points merged");
       chunks_ok = ok;
     }
     bool stamp_ok = true;

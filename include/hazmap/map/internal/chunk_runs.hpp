@@ -1,8 +1,9 @@
 #pragma once
 // Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
 // Pass 2 of a layer's insertion for rules that merge each run straight into its cell
-// (Kalman, the baseline): a chunk's runs of equal slots as a list of start indices and,
-// for rules that fuse heights, each run's weighted sums.
+// (MergePolicy::per_run, per_chunk): the kernels behind ChunkRuns (rules/run_view.hpp),
+// a chunk's runs of equal slots as a list of start indices and, for per_chunk rules
+// (Kalman), each run's weighted height sums.
 //
 // On a 1 cm layer a run is ~8 points. Walking runs point by point costs a mispredicted
 // branch at every run end; here the list is made eight slots at a time without a branch
@@ -10,9 +11,8 @@
 // vectors of eight lanes (more only past 16 points), eight runs at a time, so that no
 // branch, loop or call depends on where a run ends (below 17 points).
 
-#include <vector>
-
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/run_view.hpp"
 
 namespace hazmap {
 
@@ -44,48 +44,7 @@ int find_runs_portable(const int* slot, int count, int* starts, int* run_slot);
 void run_height_sums(const int* starts, int runs, const float* w, const float* z, float* sum_w,
                      float* sum_wz, float* first_z);
 
-/// A chunk's runs in one layer, with the buffers sized once (PointChunk::kCapacity).
-class ChunkRuns {
- public:
-  /// Entries past kStride in every list: find_runs and run_height_sums store whole
-  /// vectors of kRunLanes past the last run.
-  static constexpr int kListPad = 8;
-  static_assert(kListPad >= kRunLanes, "run lists are written kRunLanes entries at a time");
-
-  /// `height_sums`: also allocate the per-run sums (Kalman).
-  explicit ChunkRuns(bool height_sums)
-      : starts_(PointChunk::kStride + kListPad, 0),
-        slots_(PointChunk::kStride + kListPad, 0),
-        sum_w_(height_sums ? PointChunk::kStride + kListPad : 0, 0.0f),
-        sum_wz_(sum_w_.size(), 0.0f),
-        first_z_(sum_w_.size(), 0.0f) {}
-
-  /// Lists the runs of slot[0, count).
-  void find(const int* slot, int count) {
-    runs_ = find_runs(slot, count, starts_.data(), slots_.data());
-  }
-  /// Sums each run's weighted heights about the run's first height.
-  void sum_heights(const float* w, const float* z) {
-    run_height_sums(starts_.data(), runs_, w, z, sum_w_.data(), sum_wz_.data(), first_z_.data());
-  }
-
-  int size() const { return runs_; }
-  int begin(int r) const { return starts_[r]; }
-  int end(int r) const { return starts_[r + 1]; }
-  int slot(int r) const { return slots_[r]; }  ///< the slot of run r's points
-  const int* slots() const { return slots_.data(); }
-  const int* starts() const { return starts_.data(); }
-  const float* sums_w() const { return sum_w_.data(); }
-  const float* sums_wz() const { return sum_wz_.data(); }
-  const float* first_zs() const { return first_z_.data(); }
-  float sum_w(int r) const { return sum_w_[r]; }
-  float sum_wz(int r) const { return sum_wz_[r]; }  ///< relative to the run's first height
-  float first_z(int r) const { return first_z_[r]; }
-
- private:
-  std::vector<int> starts_, slots_;
-  int runs_ = 0;
-  std::vector<float> sum_w_, sum_wz_, first_z_;
-};
+static_assert(ChunkRuns::kListPad >= kRunLanes,
+              "run lists are written kRunLanes entries at a time: ChunkRuns::kListPad must cover it");
 
 }  // namespace hazmap

@@ -12,6 +12,7 @@
 
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
+#include "hazmap/rules/run_view.hpp"
 
 namespace hazmap {
 
@@ -24,19 +25,6 @@ static_assert(PointChunk::kPad >= kRunPointLanes,
 constexpr int kRunEndLanes = 8;
 static_assert(PointChunk::kPad >= kRunEndLanes,
               "run_end reads slot up to count + 7 (the layer's slot buffer holds kStride)");
-
-/// Points [begin, end) of a chunk: weights (null: all 1), cell-centred x and y in cell
-/// units, heights [m], and height variances Sigma_zz [m^2] (plane runs only). Every array
-/// must be readable up to end + 3 (PointChunk::kPad).
-struct RunPoints {
-  const float* w;
-  const float* x;
-  const float* y;
-  const float* z;
-  int begin;
-  int end;
-  const float* var_z = nullptr;
-};
 
 /// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`,
 /// and sum w var_z to sums.v.
@@ -52,6 +40,8 @@ HeightSums height_run(const RunPoints& run, double z_ref_m);
 
 /// End of the run that starts at `begin`: the first index in (begin, count] whose slot
 /// differs from slot[begin]. `slot` must be readable up to count + kRunEndLanes - 1.
+/// RollingLayer no longer calls it: both insertion paths take their runs from one
+/// ChunkRuns list (find_runs), which measured 3-13 % faster on the per-frame rules.
 int run_end(const int* slot, int begin, int count);
 
 }  // namespace hazmap
