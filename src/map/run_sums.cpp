@@ -8,11 +8,9 @@
 namespace hazmap {
 namespace {
 
-using simd::Int8;
 using simd::Mask4;
 using simd::Vec4;
 static_assert(sizeof(Vec4) / sizeof(float) == kRunPointLanes, "one Vec4 of points per step");
-static_assert(sizeof(Int8) / sizeof(int) == kRunEndLanes, "one Int8 of slots per step");
 
 [[gnu::always_inline]] inline Vec4 load(const float* p) {
   Vec4 v;
@@ -88,22 +86,6 @@ HAZMAP_KERNEL HeightSums height_run(const RunPoints& run, double z_ref_m) {
   s.wz = WZ + W * d;
   s.wzz = total(wzz) + d * (2.0 * WZ + W * d);
   return s;
-}
-
-HAZMAP_KERNEL int run_end(const int* slot, int begin, int count) {
-  const int s = slot[begin];
-  int k = begin + 1;
-  // Eight slots per step while they all match (long runs on coarse layers), then one by one.
-  for (; k + kRunEndLanes <= count; k += kRunEndLanes) {
-    Int8 v;
-    std::memcpy(&v, slot + k, sizeof v);
-    const Int8 differ = v != s;
-    std::uint64_t parts[4];
-    std::memcpy(parts, &differ, sizeof parts);
-    if (parts[0] | parts[1] | parts[2] | parts[3]) break;
-  }
-  while (k < count && slot[k] == s) ++k;
-  return k;
 }
 
 }  // namespace hazmap

@@ -1,6 +1,6 @@
 // The per-point kernels of a layer's insertion against plain scalar double versions:
 // locate_points (slot and cell-centred position), add_plane_run and height_run (a run's
-// sums), run_end.
+// sums).
 
 #include <gtest/gtest.h>
 
@@ -227,27 +227,6 @@ TEST(HeightRun, EqualsScalarDoubleSums) {
       EXPECT_NEAR(var_got, var_want, 1e-3 * var_want + 1e-12) << begin << "+" << len;
     }
   }
-}
-
-TEST(RunEnd, FindsTheFirstDifferentSlot) {
-  std::vector<int> slot(PointChunk::kStride, -1);
-  std::mt19937_64 rng(3);
-  std::geometric_distribution<int> run_length(0.05);  // runs of 1 to ~100
-  const int count = 1000;
-  for (int i = 0, value = 0; i < count; ++value) {
-    const int len = 1 + run_length(rng);
-    for (int k = i; k < std::min(count, i + len); ++k) slot[k] = value;
-    i += len;
-  }
-  for (int i = 0; i < count;) {
-    int want = i + 1;
-    while (want < count && slot[want] == slot[i]) ++want;
-    ASSERT_EQ(run_end(slot.data(), i, count), want) << "run at " << i;
-    i = want;
-  }
-  // A run that reaches the end of the chunk stops at count, whatever lies beyond.
-  std::fill(slot.begin(), slot.end(), 4);
-  EXPECT_EQ(run_end(slot.data(), 990, count), count);
 }
 
 }  // namespace

@@ -21,10 +21,6 @@ namespace hazmap {
 constexpr int kRunPointLanes = 4;
 static_assert(PointChunk::kPad >= kRunPointLanes,
               "add_plane_run / height_run read a chunk's arrays up to end + 3");
-/// Slots per step of run_end's scan (eight int lanes).
-constexpr int kRunEndLanes = 8;
-static_assert(PointChunk::kPad >= kRunEndLanes,
-              "run_end reads slot up to count + 7 (the layer's slot buffer holds kStride)");
 
 /// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`,
 /// and sum w var_z to sums.v.
@@ -37,11 +33,5 @@ struct HeightSums {
   double w = 0, wz = 0, wzz = 0;
 };
 HeightSums height_run(const RunPoints& run, double z_ref_m);
-
-/// End of the run that starts at `begin`: the first index in (begin, count] whose slot
-/// differs from slot[begin]. `slot` must be readable up to count + kRunEndLanes - 1.
-/// RollingLayer no longer calls it: both insertion paths take their runs from one
-/// ChunkRuns list (find_runs), which measured 3-13 % faster on the per-frame rules.
-int run_end(const int* slot, int begin, int count);
 
 }  // namespace hazmap

@@ -41,7 +41,7 @@ inline bool has_avx2() {
 }
 
 // GCC / Clang vector extensions: SSE on x86-64, NEON on ARM, AVX2 in a HAZMAP_KERNEL's
-// x86-64-v3 clone. The kernels' lane counts (kRunPointLanes, kRunLanes, kRunEndLanes)
+// x86-64-v3 clone. The kernels' lane counts (kRunPointLanes, kRunLanes)
 // are static_asserted against these where they are used.
 typedef float Vec4 __attribute__((vector_size(16)));  ///< four float lanes
 typedef int Mask4 __attribute__((vector_size(16)));   ///< a compare result of Vec4
