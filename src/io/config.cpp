@@ -80,12 +80,15 @@ void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, 
       [&](auto field) {
         using F = decltype(field);
         if constexpr (std::is_same_v<F, std::monostate>) {
-        } else if constexpr (std::is_same_v<F, RuleKind& (*)(Owner&)>) {
+        } else if constexpr (std::is_enum_v<std::remove_reference_t<decltype(field(owner))>>) {
+          // Enums (and RuleKind, from the rule registry) are parsed here, once.
+          using E = std::remove_reference_t<decltype(field(owner))>;
           if (!m.has(name)) return;
-          std::string rule;
-          m.get(name, rule);
-          one_of(m, name, rule, key.choices);
-          field(owner) = *rule_kind(rule);
+          std::string text;
+          m.get(name, text);
+          one_of(m, name, text, key_choices(key));
+          if constexpr (std::is_same_v<E, RuleKind>) field(owner) = *rule_kind(text);
+          else field(owner) = *enum_value<E>(text);
         } else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>) {
           if (!m.has(name)) return;
           std::vector<double> values;
@@ -97,8 +100,6 @@ void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, 
           }
         } else {
           m.get(name, field(owner));
-          if constexpr (std::is_same_v<F, std::string& (*)(Owner&)>)
-            if (!key.choices.empty()) one_of(m, name, field(owner), key.choices);
         }
       },
       key.field);
@@ -186,7 +187,7 @@ void check_cross_key_rules(const Config& c) {
     invalid("stereo.sgbm_p2", "must be greater than sgbm_p1");
   if (!(s.z_max_m > s.z_min_m)) invalid("stereo.z_max", "must be greater than stereo.z_min");
   // Without pointing error the covariance is singular: every det weight would be infinite.
-  if (c.rules.ccm.weighting == "det" && !(c.sensor.pointing_error_px > 0))
+  if (c.rules.ccm.weighting == CcmWeighting::det && !(c.sensor.pointing_error_px > 0))
     invalid("rules.ccm.weighting", "'det' needs sensor.pointing_error_px > 0 (singular covariance)");
   if (!std::isfinite(c.hazard.critical_height_m) || c.hazard.critical_height_m == 0)
     invalid("hazard.critical_height", "must be > 0 (or < 0 to use the finest layer's h_min)");
@@ -204,7 +205,7 @@ void check_cross_key_rules(const Config& c) {
                                        std::to_string(prev) + ")");
     }
   }
-  if (c.map.insertion == "finest_then_pool") {
+  if (c.map.insertion == Insertion::finest_then_pool) {
     // SPEC 5: pooling is defined between consecutive layers of one rule family (the
     // rules' kPoolFamily, rules/rule_registry.hpp).
     for (size_t i = 1; i < c.map.layers.size(); ++i)
@@ -253,6 +254,8 @@ void emit_value(YAML::Emitter& out, const ConfigKey<Owner>& key, Owner& owner) {
         if constexpr (std::is_same_v<F, std::monostate>) {
         } else if constexpr (std::is_same_v<F, RuleKind& (*)(Owner&)>) {
           out << rule_name(field(owner));
+        } else if constexpr (std::is_enum_v<std::remove_reference_t<decltype(field(owner))>>) {
+          out << enum_name(field(owner));
         } else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>) {
           out << YAML::Flow << YAML::BeginSeq;
           for (const int v : field(owner)) out << v;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <type_traits>
+#include <utility>
 
 #include "hazmap/map/grid_math.hpp"
 #include "hazmap/rules/rule_registry.hpp"
@@ -51,12 +53,6 @@ ValueCheck multiple_of(int n, ValueCheck c) {
   return c;
 }
 
-std::vector<std::string> rule_choices() {
-  std::vector<std::string> names;
-  for (const char* n : rule_names()) names.emplace_back(n);
-  return names;
-}
-
 std::string number_text(double v) {
   if (v == std::floor(v) && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
   char text[32];
@@ -86,10 +82,10 @@ std::string ValueCheck::message() const {
 const std::vector<TopKey>& config_keys() {
   static const std::vector<TopKey> keys = {
       // stereo (SPEC 3)
-      {"stereo.matcher", CONFIG_FIELD(stereo.matcher), "", "`bm` (cv::StereoBM) or `sgbm` (cv::StereoSGBM)", {}, {"bm", "sgbm"}},
+      {"stereo.matcher", CONFIG_FIELD(stereo.matcher), "", "`bm` (cv::StereoBM) or `sgbm` (cv::StereoSGBM)", {}},
       {"stereo.num_disparities", CONFIG_FIELD(stereo.num_disparities), "px",
        "search range, multiple of 16; must cover the nearest ground (d = f B / z) or it is mismatched: level, the 0.4-scale image bottom needs 122 px, pitched down a 15-20 deg slope > 150 px",
-       {multiple_of(16, above(0, "must be a positive multiple of 16"))}, {}, false, "shipped 0.4-scale configs 160"},
+       {multiple_of(16, above(0, "must be a positive multiple of 16"))}, false, "shipped 0.4-scale configs 160"},
       {"stereo.block_size", CONFIG_FIELD(stereo.block_size), "px", "odd window size", {odd_in(5, 255, "must be odd and in [5, 255]")}},
       {"stereo.min_disparity", CONFIG_FIELD(stereo.min_disparity), "px", "disparities <= this are invalid", {at_least(0)}},
       {"stereo.uniqueness_ratio", CONFIG_FIELD(stereo.uniqueness_ratio), "%", "margin of the best match", {at_least(0)}},
@@ -98,11 +94,11 @@ const std::vector<TopKey>& config_keys() {
       {"stereo.speckle_window", CONFIG_FIELD(stereo.speckle_window), "px", "speckle filter's region size; 0 off", {at_least(0)}},
       {"stereo.speckle_range", CONFIG_FIELD(stereo.speckle_range), "px", "speckle filter's disparity range (x16 for StereoBM, SPEC 3)", {at_least(0)}},
       {"stereo.disp12_max_diff", CONFIG_FIELD(stereo.disp12_max_diff), "px",
-       "OpenCV's left-right check, -1 off; removes ground seen by the left camera only (behind rocks)", {}, {}, false, "default.yaml: 1"},
+       "OpenCV's left-right check, -1 off; removes ground seen by the left camera only (behind rocks)", {}, false, "default.yaml: 1"},
       {"stereo.sgbm_p1", CONFIG_FIELD(stereo.sgbm_p1), "", "SGBM penalty P1; 0: 8 x block^2", {at_least(0, "penalties must be >= 0")}},
       {"stereo.sgbm_p2", CONFIG_FIELD(stereo.sgbm_p2), "", "SGBM penalty P2, greater than P1; 0: 32 x block^2", {at_least(0, "penalties must be >= 0")}},
-      {"stereo.sgbm_mode", CONFIG_FIELD(stereo.sgbm_mode), "", "SGBM mode", {}, {"sgbm", "hh", "sgbm_3way", "hh4"}},
-      {"stereo.pre_filter_type", CONFIG_FIELD(stereo.pre_filter_type), "", "StereoBM pre-filter", {}, {"normalized_response", "xsobel"}},
+      {"stereo.sgbm_mode", CONFIG_FIELD(stereo.sgbm_mode), "", "SGBM mode", {}},
+      {"stereo.pre_filter_type", CONFIG_FIELD(stereo.pre_filter_type), "", "StereoBM pre-filter", {}},
       {"stereo.pre_filter_size", CONFIG_FIELD(stereo.pre_filter_size), "px", "StereoBM `normalized_response` window (odd)", {odd_in(5, 255, "must be odd and in [5, 255]")}},
       {"stereo.input_bits", CONFIG_FIELD(stereo.input_bits), "bits",
        "significant bits of 16-bit input (0 = detect per pair from the brighter image; 10 or 12 for low-bit sensors); ignored for 8-bit input",
@@ -137,14 +133,14 @@ const std::vector<TopKey>& config_keys() {
        {in(0, 10, "[]", "must be in [0, 10] m")}},
       {"stereo.support_rows", CONFIG_FIELD(stereo.support_rows), "px",
        "unsupported disparities: a pixel whose disparity exceeds, by more than `support_tolerance` and `support_margin_px`, most of the valid pixels in the `support_rows` rows below it floats (nothing seen from above the ground can): removed and counted (`disparities_unsupported` in summary.json). Catches sky-line mismatches on a black sky; drops overhangs too, so keep it off indoors. 0 off",
-       {in(0, 100000, "[]", "must be in [0, 100000] pixels (0: off)")}, {}, false, "shipped: 32"},
+       {in(0, 100000, "[]", "must be in [0, 100000] pixels (0: off)")}, false, "shipped: 32"},
       {"stereo.support_tolerance", CONFIG_FIELD(stereo.support_tolerance), "",
        "relative margin of the support check: farther is disparity < d (1 - tolerance) - margin", {in(0, 1, "[)")}},
       {"stereo.support_margin_px", CONFIG_FIELD(stereo.support_margin_px), "px", "absolute margin of the support check",
        {in(0, 1e4, "[)", "must be in [0, 1e4) pixels")}},
       {"stereo.search", CONFIG_FIELD(stereo.search), "",
        "`full`: one range `[min_disparity, min_disparity + num_disparities)` for the whole image; `ground_band` (SPEC 3.4): horizontal strips, each searching only the disparities terrain can produce in its rows (from the camera's pose on the body), strips in parallel; not limited by `num_disparities`, capped at f B / `z_min` and by the image width; pixels outside their strip's band are invalid. StereoBM gives a full search's disparities inside the band",
-       {}, {"full", "ground_band"}},
+       {}},
       {"stereo.band_max_slope_deg", CONFIG_FIELD(stereo.band_max_slope_deg), "deg",
        "`ground_band` terrain: the wheel plane tilted up to this slope about the point below the camera", {in(0, 90, "[)")}},
       {"stereo.band_max_height", CONFIG_FIELD(stereo.band_max_height_m), "m",
@@ -153,16 +149,15 @@ const std::vector<TopKey>& config_keys() {
       {"stereo.band_max_depth", CONFIG_FIELD(stereo.band_max_depth_m), "m",
        "`ground_band` terrain: depressions down to this below the wheel plane", {finite("must be finite and >= 0", 0)}},
       // sensor (SPEC 4)
-      {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}, {"axis", "ray"}},
+      {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}},
       {"sensor.pointing_error_px", CONFIG_FIELD(sensor.pointing_error_px), "px", "pixel noise p", {at_least(0)}},
       {"sensor.disparity_error_px", CONFIG_FIELD(sensor.disparity_error_px), "px", "matching noise m", {above(0)}},
       // map (SPEC 5, 6)
       {"map.insertion", CONFIG_FIELD(map.insertion), "",
        "`all_layers`: every point into every layer; `finest_then_pool`: into the finest layer holding it (and coarse cells not fully covered by the finer layer), covered coarse cells rebuilt as prior (+) pooled children (SPEC 5, 6.5); needs one rule family per consecutive pair",
-       {}, {"all_layers", "finest_then_pool"}},
+       {}},
       {"map.layers", {}, "",
-       "the layers, finest first, resolutions integer multiples (keys `map.layers[].*` below); the robot must stay within 2^30 cells of W's origin in every layer (and poses within 1e7 m)",
-       {}, {}, true},
+       "the layers, finest first, resolutions integer multiples (keys `map.layers[].*` below); the robot must stay within 2^30 cells of W's origin in every layer (and poses within 1e7 m)", {}, true},
       // rules (SPEC 6)
       {"rules.kalman.time_inflation", CONFIG_FIELD(rules.kalman.time_inflation_m2), "m^2",
        "added to every known cell's variance per frame", {at_least(0)}},
@@ -175,11 +170,11 @@ const std::vector<TopKey>& config_keys() {
       {"rules.omg.decay", CONFIG_FIELD(rules.omg.decay), "", "S *= decay per frame", {in(0, 1, "(]")}},
       {"rules.omg.gate_sigma", CONFIG_FIELD(rules.omg.gate_sigma), "", "as `rules.kalman.gate_sigma` (SPEC 4 consistency gate); 0 off", {at_least(0)}},
       {"rules.ccm.weighting", CONFIG_FIELD(rules.ccm.weighting), "",
-       "`constant` (w = 1), `trace` (1/trace Sigma), `det` (1/det Sigma; needs `sensor.pointing_error_px` > 0)", {}, {"constant", "trace", "det"}},
+       "`constant` (w = 1), `trace` (1/trace Sigma), `det` (1/det Sigma; needs `sensor.pointing_error_px` > 0)", {}},
       {"rules.ccm.full_plane", CONFIG_FIELD(rules.ccm.full_plane), "", "solve slopes with Sxy; false: the thesis' diagonal forms"},
       {"rules.ccm.max_weight", CONFIG_FIELD(rules.ccm.max_weight), "",
        "W cap, applied once per frame after the frame's merge; near the rover one frame brings hundreds of points into a 4 cm cell, so a cap near that lets partial views at the image bottom wipe out the cell's lateral coverage",
-       {above(0)}, {}, false, "shipped configs 1e5"},
+       {above(0)}, false, "shipped configs 1e5"},
       {"rules.ccm.min_points", CONFIG_FIELD(rules.ccm.min_points), "", "evaluable cell: at least this many points", {at_least(1)}},
       {"rules.ccm.min_coverage", CONFIG_FIELD(rules.ccm.min_coverage), "", "evaluable cell: points spread over at least this share of the cell", {at_least(0)}},
       {"rules.ccm.max_std_ratio", CONFIG_FIELD(rules.ccm.max_std_ratio), "", "the layers' default `max_std_ratio`; 0 off", {at_least(0)}},
@@ -192,7 +187,7 @@ const std::vector<TopKey>& config_keys() {
       {"hazard.min_kernel_fill", CONFIG_FIELD(hazard.min_kernel_fill), "", "fraction of kernel cells that must be observed to prove a cell traversable", {in(0, 1, "[]")}},
       {"hazard.roughness", CONFIG_FIELD(hazard.roughness), "",
        "piecewise-constant kernel statistic on layers finer than the wheelbase: `range` (max - min, SPEC 8.1, the thesis') or `detrended` (max - min of the residuals about the kernel's least-squares plane; slopes go to the wheel ring's vehicle-slope test, and a kernel plane rising h_min within the kernel's radius is face evidence)",
-       {}, {"range", "detrended"}, false, "shipped flight/default configs: `detrended`"},
+       {}, false, "shipped flight/default configs: `detrended`"},
       {"hazard.min_axis_coverage", CONFIG_FIELD(hazard.min_axis_coverage), "",
        "CCM: slope evidence from one axis of a partly covered cell needs the points' variance along it >= this x r^2/12 (a strip a third of the cell wide); across thinner strips the spread is the points' own ray-correlated noise (measured: 56 and 65 deg read on a 15 deg ramp across strips of coverage 0.04 and 0.02). A trade: with `cadre_flight` it ends the ramp's footprint false alarms (2.9 % -> 0) and costs 25 deg ramp recall (63 -> 50 % within 1.5 m; 0.25: 45 %)",
        {in(0, 1, "[]")}},
@@ -216,7 +211,7 @@ const std::vector<TopKey>& config_keys() {
       {"output.jdem", CONFIG_FIELD(output.jdem), "", "write the grid files, in `output.format`"},
       {"output.format", CONFIG_FIELD(output.format), "",
        "grid files: `jdem` (text), `geotiff` (`.tif`: float32, DEFLATE, nodata NaN, georeferenced in W; see Outputs), `both` (GeoTIFF for GIS tools plus the JDEM that `hazmap evaluate` reads)",
-       {}, {"jdem", "geotiff", "both"}},
+       {}},
       {"output.queue_frames", CONFIG_FIELD(output.queue_frames), "frames",
        "finished frames waiting for the writer thread (each holds a copy of every grid); the frame loop waits only when this many are queued; 0: write on the frame loop's thread",
        {in(0, kMaxOutputQueueFrames, "[]",
@@ -234,15 +229,13 @@ const std::vector<LayerKey>& layer_keys() {
       {"resolution", LAYER_FIELD(resolution_m), "m", "cell size; an integer multiple of the previous layer's",
        {in(kMinResolutionM, kMaxResolutionM, "[]",
            "must be in [1e-4, 1000] m (finer than 0.1 mm is far below any stereo point's error; "
-           "coarser than 1 km maps nothing a rover meets)")},
-       {}, true},
+           "coarser than 1 km maps nothing a rover meets)")}, true},
       {"size", LAYER_FIELD(size), "cells", "cells per side, even",
        {multiple_of(2, at_least(2, "must be even and >= 2")),
         in(-kInf, kMaxLayerSize, "[]",
            "must be <= " + std::to_string(kMaxLayerSize) +
-               " (a layer's size^2 cells are addressed with 32-bit indices)")},
-       {}, true},
-      {"rule", LAYER_FIELD(rule), "", "`kalman`, `omg`, `ccm` or `bananas` (baseline: last point)", {}, rule_choices(), true},
+               " (a layer's size^2 cells are addressed with 32-bit indices)")}, true},
+      {"rule", LAYER_FIELD(rule), "", "`kalman`, `omg`, `ccm` or `bananas` (baseline: last point)", {}, true},
       {"max_std_ratio", LAYER_FIELD(max_std_ratio), "",
        "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; < 0: `rules.ccm.max_std_ratio`",
        {finite("must be finite")}},
@@ -264,6 +257,29 @@ const std::vector<LayerKey>& layer_keys() {
 namespace {
 
 template <class Owner>
+std::vector<std::string> choices_of(const ConfigKey<Owner>& key) {
+  return std::visit(
+      [](auto field) -> std::vector<std::string> {
+        using F = decltype(field);
+        if constexpr (std::is_same_v<F, std::monostate>) {
+          return {};
+        } else {
+          using V = std::remove_reference_t<decltype(field(std::declval<Owner&>()))>;
+          if constexpr (std::is_same_v<V, RuleKind>) {
+            std::vector<std::string> names;
+            for (const char* n : rule_names()) names.emplace_back(n);
+            return names;
+          } else if constexpr (std::is_enum_v<V>) {
+            return enum_names<V>();
+          } else {
+            return {};
+          }
+        }
+      },
+      key.field);
+}
+
+template <class Owner>
 std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
   if (key.required) return "required";
   std::ostringstream text;
@@ -275,8 +291,8 @@ std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
           const auto& value = field(defaults);
           using V = std::decay_t<decltype(value)>;
           if constexpr (std::is_same_v<V, bool>) text << (value ? "true" : "false");
-          else if constexpr (std::is_same_v<V, std::string>) text << "`" << value << "`";
           else if constexpr (std::is_same_v<V, RuleKind>) text << "`" << rule_name(value) << "`";
+          else if constexpr (std::is_enum_v<V>) text << "`" << enum_name(value) << "`";
           else if constexpr (std::is_same_v<V, std::array<int, 4>>)
             text << "`[" << value[0] << ", " << value[1] << ", " << value[2] << ", " << value[3] << "]`";
           else text << value;
@@ -291,7 +307,7 @@ std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
 template <class Owner>
 std::string allowed(const ConfigKey<Owner>& key) {
   std::string text;
-  for (const std::string& c : key.choices) text += (text.empty() ? "`" : " `") + c + "`";
+  for (const std::string& c : key_choices(key)) text += (text.empty() ? "`" : " `") + c + "`";
   for (const ValueCheck& c : key.checks) text += (text.empty() ? "" : "; ") + c.message();
   return text;
 }
@@ -303,6 +319,9 @@ std::string row(const std::string& name, const ConfigKey<Owner>& key, Owner& def
 }
 
 }  // namespace
+
+std::vector<std::string> key_choices(const TopKey& key) { return choices_of(key); }
+std::vector<std::string> key_choices(const LayerKey& key) { return choices_of(key); }
 
 std::string config_reference_markdown() {
   std::string table = "| key | default | unit | allowed | meaning |\n|---|---|---|---|---|\n";

@@ -87,14 +87,12 @@ std::vector<std::string> candidates(const ConfigKey<Owner>& key, Owner& defaults
           using V = std::decay_t<decltype(value)>;
           if constexpr (std::is_same_v<V, bool>) {
             out.push_back(value ? "false" : "true");
-          } else if constexpr (std::is_same_v<V, std::string> || std::is_same_v<V, RuleKind>) {
-            for (const std::string& c : key.choices) {
-              if constexpr (std::is_same_v<V, RuleKind>) {
-                if (c != rule_name(value)) out.push_back(c);
-              } else {
-                if (c != value) out.push_back(c);
-              }
-            }
+          } else if constexpr (std::is_same_v<V, RuleKind>) {
+            for (const std::string& c : key_choices(key))
+              if (c != rule_name(value)) out.push_back(c);
+          } else if constexpr (std::is_enum_v<V>) {
+            for (const std::string& c : key_choices(key))
+              if (c != enum_name(value)) out.push_back(c);
           } else if constexpr (std::is_same_v<V, std::array<int, 4>>) {
             out.push_back("[1, 2, 3, 4]");
           } else {
@@ -179,9 +177,9 @@ TEST(ConfigSchema, SetReachesLayerAndEnumKeys) {
                                  "output.format=both", "stereo.roi=[1, 2, 3, 4]"});
   EXPECT_EQ(c.map.layers[0].hazard.h_min_m, 0.02);
   EXPECT_EQ(c.map.layers[0].rule, RuleKind::ccm);
-  EXPECT_EQ(c.rules.ccm.weighting, "trace");
-  EXPECT_EQ(c.hazard.roughness, "detrended");
-  EXPECT_EQ(c.output.format, "both");
+  EXPECT_EQ(c.rules.ccm.weighting, CcmWeighting::trace);
+  EXPECT_EQ(c.hazard.roughness, RoughnessStatistic::detrended);
+  EXPECT_EQ(c.output.format, GridFormat::both);
   EXPECT_EQ(c.stereo.roi_px, (std::array<int, 4>{1, 2, 3, 4}));
 }
 
@@ -227,8 +225,8 @@ void check_bounds(const std::string& name, const ConfigKey<Owner>& key) {
       EXPECT_EQ(config_error({set(c.except)}), "") << set(c.except);
     }
   }
-  for (const std::string& choice : key.choices) EXPECT_EQ(config_error({name + "=" + choice}), "") << choice;
-  if (!key.choices.empty()) {
+  for (const std::string& choice : key_choices(key)) EXPECT_EQ(config_error({name + "=" + choice}), "") << choice;
+  if (!key_choices(key).empty()) {
     EXPECT_NE(config_error({name + "=no_such_value"}).find("key '" + name + "': 'no_such_value' is not one of"),
               std::string::npos);
   }

@@ -43,27 +43,30 @@ struct ValueCheck {
 
 /// Where a key's value lives in its owner (Config, or one LayerConfig for map.layers.N.*);
 /// std::monostate for the layer list's own entry, whose elements have the layer keys.
+/// An enum's names come from its EnumNames (core/enum_names.hpp), RuleKind's from the rule
+/// registry; a new enum type needs its alternative here.
 template <class Owner>
-using KeyField = std::variant<std::monostate, int& (*)(Owner&), double& (*)(Owner&), bool& (*)(Owner&),
-                              std::string& (*)(Owner&), std::array<int, 4>& (*)(Owner&),
-                              RuleKind& (*)(Owner&)>;
+using KeyField =
+    std::variant<std::monostate, int& (*)(Owner&), double& (*)(Owner&), bool& (*)(Owner&),
+                 std::array<int, 4>& (*)(Owner&), RuleKind& (*)(Owner&), Insertion& (*)(Owner&),
+                 CcmWeighting& (*)(Owner&), RoughnessStatistic& (*)(Owner&),
+                 StereoMatcher& (*)(Owner&), SgbmMode& (*)(Owner&), PreFilterType& (*)(Owner&),
+                 DisparitySearch& (*)(Owner&), SensorModel& (*)(Owner&), GridFormat& (*)(Owner&)>;
 
 /// One configuration key.
 template <class Owner>
 struct ConfigKey {
   ConfigKey(std::string name_, KeyField<Owner> field_, std::string unit_, std::string help_,
-            std::vector<ValueCheck> checks_ = {}, std::vector<std::string> choices_ = {},
-            bool required_ = false, std::string default_note_ = "")
+            std::vector<ValueCheck> checks_ = {}, bool required_ = false,
+            std::string default_note_ = "")
       : name(std::move(name_)), field(field_), unit(std::move(unit_)), help(std::move(help_)),
-        checks(std::move(checks_)), choices(std::move(choices_)), required(required_),
-        default_note(std::move(default_note_)) {}
+        checks(std::move(checks_)), required(required_), default_note(std::move(default_note_)) {}
 
   std::string name;                  ///< dotted, relative to Owner: "stereo.z_max", "hazard.kernel"
   KeyField<Owner> field;             ///< the member it binds
   std::string unit;                  ///< "m", "deg", "px", ... ("" for none)
   std::string help;                  ///< the README's text (markdown)
   std::vector<ValueCheck> checks;    ///< value checks, in order (validate())
-  std::vector<std::string> choices;  ///< a text key's allowed values (parse time); RuleKind: the registry's
   bool required = false;             ///< must be present (layer keys)
   std::string default_note;          ///< README: after the default ("shipped configs use ...")
 };
@@ -77,6 +80,10 @@ const std::vector<TopKey>& config_keys();
 
 /// The keys of one map.layers element, relative to it ("resolution", "hazard.kernel").
 const std::vector<LayerKey>& layer_keys();
+
+/// The names an enum key accepts (RuleKind: the rule registry's), empty for other keys.
+std::vector<std::string> key_choices(const TopKey& key);
+std::vector<std::string> key_choices(const LayerKey& key);
 
 /// The README's "Configuration reference" table (markdown, one row per key), generated
 /// from the tables above; README.md holds it between the markers below.
