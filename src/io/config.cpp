@@ -10,7 +10,6 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/config_schema.hpp"
-#include "hazmap/map/grid_math.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 #include "yaml_access.hpp"
 
