@@ -245,6 +245,23 @@ TEST(ConfigSchema, GeneratedMessagesReadAsBefore) {
   EXPECT_EQ(config_error({"stereo.z_max=0.05"}), "config: key 'stereo.z_max': must be greater than stereo.z_min");
   EXPECT_EQ(config_error({"stereo.sgbm_p1=5", "stereo.sgbm_p2=5"}),
             "config: key 'stereo.sgbm_p2': must be greater than sgbm_p1");
+  EXPECT_EQ(config_error({"stereo.sgbm_p1=5", "stereo.sgbm_p2=6"}), "");
+}
+
+// The rules across keys (check_cross_key_rules), at their bounds.
+TEST(ConfigSchema, CrossKeyRulesRejectAtTheirBoundsAndAcceptInside) {
+  EXPECT_EQ(config_error({"stereo.z_min=0.5", "stereo.z_max=0.5000001"}), "");
+  EXPECT_EQ(config_error({"hazard.critical_height=0"}),
+            "config: key 'hazard.critical_height': must be > 0 (or < 0 to use the finest layer's h_min)");
+  EXPECT_EQ(config_error({"hazard.critical_height=-1e-9"}), "");
+  EXPECT_EQ(config_error({"hazard.critical_height=1e-9"}), "");
+  EXPECT_EQ(config_error({"map.layers.0.size=8", "map.layers.0.hazard.kernel=9"}),
+            "config: key 'map.layers.0.hazard.kernel': must be odd, >= 1 and smaller than the layer size");
+  EXPECT_EQ(config_error({"map.layers.0.size=8", "map.layers.0.hazard.kernel=7"}), "");
+  EXPECT_EQ(config_error({"sensor.pointing_error_px=0", "rules.ccm.weighting=det"}),
+            "config: key 'rules.ccm.weighting': 'det' needs sensor.pointing_error_px > 0 (singular "
+            "covariance)");
+  EXPECT_EQ(config_error({"sensor.pointing_error_px=1e-9", "rules.ccm.weighting=det"}), "");
 }
 
 // --- the README's reference table is the generated one ---
