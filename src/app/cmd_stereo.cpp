@@ -92,7 +92,8 @@ int cmd_stereo(int argc, char** argv) {
   spdlog::info("rectified: f {:.2f} px, B {:.4f} m, c ({:.1f}, {:.1f}) px, points from x {} y {} "
                "w {} h {}; matcher {}, search {}, {} disparities",
                g.focal_px, g.baseline_m, g.cx_px, g.cy_px, region.x, region.y, region.width,
-               region.height, config.stereo.matcher, config.stereo.search,
+               region.height, hazmap::enum_name(config.stereo.matcher),
+               hazmap::enum_name(config.stereo.search),
                config.stereo.num_disparities);
   if (const hazmap::BandMatcher* band = front_end.matcher().band())
     spdlog::info("ground band: {}", hazmap::describe_strips(band->strips()));
@@ -126,7 +127,7 @@ int cmd_stereo(int argc, char** argv) {
       hazmap::write_ply(dir / "cloud.ply", front_end.cloud(), &grey,
                         {"hazmap stereo, frame " + f.name,
                          "frame W (world); covariance cov_* in m^2, SPEC 4 sensor model " +
-                             config.sensor.model});
+                             std::string(hazmap::enum_name(config.sensor.model))});
 
       const size_t points = front_end.cloud().size();
       points_total += points;
@@ -155,7 +156,7 @@ int cmd_stereo(int argc, char** argv) {
   const std::string summary =
       "{\n  \"frames\": " + std::to_string(frames.size()) +
       ",\n  \"points\": " + std::to_string(points_total) +
-      ",\n  \"matcher\": \"" + config.stereo.matcher + "\"" +
+      ",\n  \"matcher\": \"" + std::string(hazmap::enum_name(config.stereo.matcher)) + "\"" +
       ",\n  \"focal_px\": " + json_number(g.focal_px) +
       ",\n  \"baseline_m\": " + json_number(g.baseline_m) +
       ",\n  \"mean_ms\": {\"grey\": " + json_number(sum.grey_ms / n) +

@@ -22,7 +22,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfi
   p.ring_tests = layer.resolution_m < hz.wheelbase_m;
   p.kernel = layer.hazard.kernel;
   p.min_kernel_fill = hz.min_kernel_fill;
-  p.detrended_roughness = hz.roughness == "detrended" && p.ring_tests;
+  p.detrended_roughness = hz.roughness == RoughnessStatistic::detrended && p.ring_tests;
   // SPEC 8.1: cell heights sit at cell centres, (D - 1) r apart across the kernel.
   p.roughness_threshold_m = layer.hazard.roughness_threshold_m >= 0
                                 ? layer.hazard.roughness_threshold_m
@@ -43,7 +43,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfi
   p.tan_face = p.h_min_m / layer.resolution_m;
   p.min_axis_coverage = hz.min_axis_coverage;
   p.min_points = config.rules.ccm.min_points;
-  p.max_effective_count = config.rules.ccm.weighting == "constant" ? config.rules.ccm.max_weight : 1e300;
+  p.max_effective_count = config.rules.ccm.weighting == CcmWeighting::constant ? config.rules.ccm.max_weight : 1e300;
   if (p.family == HazardFamily::piecewise_constant) {
     const double t = std::tan(p.max_slope_rad);
     p.published_extra_variance_m2 = layer.resolution_m * layer.resolution_m / 6.0 * t * t;

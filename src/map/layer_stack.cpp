@@ -12,11 +12,7 @@
 
 namespace hazmap {
 
-CcmWeighting ccm_weighting(const CcmConfig& ccm) {
-  if (ccm.weighting == "trace") return CcmWeighting::trace;
-  if (ccm.weighting == "det") return CcmWeighting::det;
-  return CcmWeighting::constant;
-}
+CcmWeighting ccm_weighting(const CcmConfig& ccm) { return ccm.weighting; }
 
 double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
   const double ratio = layer.max_std_ratio < 0 ? rules.ccm.max_std_ratio : layer.max_std_ratio;
@@ -49,7 +45,7 @@ CcmRule::Config rule_config(RuleTag<CcmRule>, const RulesConfig& rules, const Ha
 std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules,
                                   const HazardConfig& hazard, std::size_t index) {
   const LayerConfig& layer = map.layers[index];
-  const bool pooled = map.insertion == "finest_then_pool" && index > 0;
+  const bool pooled = map.insertion == Insertion::finest_then_pool && index > 0;
   const int n = layer.size;
   const double r = layer.resolution_m;
   const double gate = gate_std_m(layer, rules);
@@ -70,7 +66,7 @@ LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, bool pose
 
 LayerStack::LayerStack(const MapConfig& map, const RulesConfig& rules, const HazardConfig& hazard,
                        bool pose_uncertainty)
-    : pooling_(map.insertion == "finest_then_pool"),
+    : pooling_(map.insertion == Insertion::finest_then_pool),
       track_pose_(pose_uncertainty) {
   for (std::size_t i = 0; i < map.layers.size(); ++i) layers_.push_back(make_layer(map, rules, hazard, i));
   pools_.resize(layers_.size());

@@ -15,8 +15,9 @@ namespace {
 /// One grid file in the configured format(s); `stem` without extension.
 void write_grid(const std::filesystem::path& dir, const std::string& stem, const JdemGrid& grid,
                 const OutputConfig& output) {
-  if (output.format == "jdem" || output.format == "both") write_jdem(dir / (stem + ".jdem"), grid);
-  if (output.format == "geotiff" || output.format == "both")
+  if (output.format == GridFormat::jdem || output.format == GridFormat::both)
+    write_jdem(dir / (stem + ".jdem"), grid);
+  if (output.format == GridFormat::geotiff || output.format == GridFormat::both)
     write_geotiff(dir / (stem + ".tif"), grid);
 }
 

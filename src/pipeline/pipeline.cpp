@@ -60,7 +60,7 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       layer_gates_(config.map.layers.size()),
       hazards_(resolve_hazard_params(config), config.hazard.incremental) {
   // The axis model's covariance has closed forms for all the map reads: skip the cloud.
-  if (config.sensor.model == "axis") front_.set_map_points_output(weighting_);
+  if (config.sensor.model == SensorModel::axis) front_.set_map_points_output(weighting_);
 }
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,

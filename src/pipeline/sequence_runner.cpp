@@ -99,7 +99,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
   j.key("total").value((read + sum.total() + write) / n);
   j.end_object();
   j.key("output").begin_object();  // `write` above is the loop's share; this the writer's
-  j.key("format").value(config.output.format);
+  j.key("format").value(std::string(enum_name(config.output.format)));
   j.key("queue_frames").value(config.output.queue_frames);
   j.key("frames_written").value(state.writer.frames_written);
   j.key("writer_ms_per_written_frame")

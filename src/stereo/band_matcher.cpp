@@ -124,7 +124,7 @@ BandMatcher::BandMatcher(const StereoConfig& config, const GroundBand& band, cv:
   // Rows a matched row depends on: the block's half height plus the pre-filter's (the
   // normalized response box, or the 3 x 3 Sobel / SGBM's 3 x 3 pre-filter).
   const int prefilter_radius =
-      config.matcher == "bm" && config.pre_filter_type == "normalized_response"
+      config.matcher == StereoMatcher::bm && config.pre_filter_type == PreFilterType::normalized_response
           ? config.pre_filter_size / 2
           : 1;
   margin_ = config.block_size / 2 + prefilter_radius;

@@ -12,17 +12,14 @@ namespace hazmap {
 cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& c, int min_disparity,
                                                  int num_disparities, bool speckle_filter) {
   const int speckle_window = speckle_filter ? c.speckle_window : 0;
-  if (c.matcher == "bm") {
+  if (c.matcher == StereoMatcher::bm) {
     auto bm = cv::StereoBM::create(num_disparities, c.block_size);
     bm->setMinDisparity(min_disparity);
     bm->setUniquenessRatio(c.uniqueness_ratio);
     bm->setTextureThreshold(c.texture_threshold);
-    if (c.pre_filter_type == "normalized_response")
-      bm->setPreFilterType(cv::StereoBM::PREFILTER_NORMALIZED_RESPONSE);
-    else if (c.pre_filter_type == "xsobel")
-      bm->setPreFilterType(cv::StereoBM::PREFILTER_XSOBEL);
-    else
-      throw Error("config: key 'stereo.pre_filter_type': unknown type '" + c.pre_filter_type + "'");
+    bm->setPreFilterType(c.pre_filter_type == PreFilterType::xsobel
+                             ? cv::StereoBM::PREFILTER_XSOBEL
+                             : cv::StereoBM::PREFILTER_NORMALIZED_RESPONSE);
     bm->setPreFilterSize(c.pre_filter_size);
     bm->setPreFilterCap(c.pre_filter_cap);
     bm->setSpeckleWindowSize(speckle_window);
@@ -31,21 +28,21 @@ cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& c, int min_
     bm->setDisp12MaxDiff(c.disp12_max_diff);
     return bm;
   }
-  if (c.matcher == "sgbm") {
+  {
     const int area = c.block_size * c.block_size;
-    int mode = 0;
-    if (c.sgbm_mode == "sgbm") mode = cv::StereoSGBM::MODE_SGBM;
-    else if (c.sgbm_mode == "hh") mode = cv::StereoSGBM::MODE_HH;
-    else if (c.sgbm_mode == "sgbm_3way") mode = cv::StereoSGBM::MODE_SGBM_3WAY;
-    else if (c.sgbm_mode == "hh4") mode = cv::StereoSGBM::MODE_HH4;
-    else throw Error("config: key 'stereo.sgbm_mode': unknown mode '" + c.sgbm_mode + "'");
+    int mode = cv::StereoSGBM::MODE_HH;
+    switch (c.sgbm_mode) {
+      case SgbmMode::sgbm: mode = cv::StereoSGBM::MODE_SGBM; break;
+      case SgbmMode::hh: mode = cv::StereoSGBM::MODE_HH; break;
+      case SgbmMode::sgbm_3way: mode = cv::StereoSGBM::MODE_SGBM_3WAY; break;
+      case SgbmMode::hh4: mode = cv::StereoSGBM::MODE_HH4; break;
+    }
     return cv::StereoSGBM::create(min_disparity, num_disparities, c.block_size,
                                   c.sgbm_p1 > 0 ? c.sgbm_p1 : 8 * area,
                                   c.sgbm_p2 > 0 ? c.sgbm_p2 : 32 * area, c.disp12_max_diff,
                                   c.pre_filter_cap, c.uniqueness_ratio, speckle_window,
                                   c.speckle_range, mode);
   }
-  throw Error("config: key 'stereo.matcher': unknown matcher '" + c.matcher + "'");
 }
 
 int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometry, int width) {
@@ -61,8 +58,8 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c)
       min_disparity_(c.min_disparity),
       searched_min_(c.min_disparity),
       searched_num_(c.num_disparities) {
-  if (c.search != "full")
-    throw Error("config: key 'stereo.search': '" + c.search +
+  if (c.search != DisparitySearch::full)
+    throw Error("config: key 'stereo.search': '" + std::string(enum_name(c.search)) +
                 "' needs the camera geometry; this matcher only does a full search");
 }
 
@@ -88,12 +85,10 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& 
     : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
       searched_num_(c.num_disparities) {
   check_against_image(c, image_size);
-  if (c.search == "full") {
+  if (c.search == DisparitySearch::full) {
     matcher_ = create_stereo_matcher(c, c.min_disparity, c.num_disparities, true);
     return;
   }
-  if (c.search != "ground_band")
-    throw Error("config: key 'stereo.search': unknown search '" + c.search + "'");
   const int cap = band_disparity_cap(c, geometry, image_size.width);
   if (cap <= c.min_disparity)
     throw Error("config: key 'stereo.search': ground_band leaves no disparity to search "

@@ -60,7 +60,7 @@ PointCloudBuilder::PointCloudBuilder(const StereoConfig& stereo, const SensorCon
                                      const cv::Rect& valid_roi_right)
     : stereo_(stereo),
       sensor_(sensor),
-      model_(sensor.model == "ray" ? SensorModel::ray : SensorModel::axis),
+      model_(sensor.model),
       geometry_(geometry),
       roi_(valid_roi),
       roi_right_(valid_roi_right) {

@@ -421,7 +421,7 @@ TEST(AnalyticHazards, DetrendedKernelProvesAnAlmost20DegRampTheRangeCannotAndKee
   const double t18 = std::tan(18 * M_PI / 180);
   const auto ramp = [](double t) { return [t](double x, double) { return t * x; }; };
   const Counts range_mode = count(map_surface(config, ramp(t18), 1.4, 0.003, 0.003)[0].hazard);
-  config.hazard.roughness = "detrended";
+  config.hazard.roughness = RoughnessStatistic::detrended;
   const Counts detrended = count(map_surface(config, ramp(t18), 1.4, 0.003, 0.003)[0].hazard);
   EXPECT_EQ(range_mode.hazard, 0);
   EXPECT_EQ(detrended.hazard, 0);

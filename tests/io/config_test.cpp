@@ -30,7 +30,7 @@ TEST(Config, ShippedDefaultLoads) {
   EXPECT_EQ(c.map.layers[0].rule, RuleKind::kalman);
   EXPECT_DOUBLE_EQ(c.map.layers[0].resolution_m, 0.01);
   EXPECT_EQ(c.map.layers[0].hazard.kernel, 7);
-  EXPECT_EQ(c.stereo.matcher, "bm");
+  EXPECT_EQ(c.stereo.matcher, StereoMatcher::bm);
 }
 
 TEST(Config, DefaultsFillMissingSections) {
@@ -119,10 +119,10 @@ TEST(Config, SetOverridesNestedKeysAndListElements) {
   const Config c = parse_config(kMinimal, "t",
                                 {"stereo.matcher=sgbm", "map.layers.1.size=32",
                                  "rules.kalman.time_inflation=0", "sensor.model=ray"});
-  EXPECT_EQ(c.stereo.matcher, "sgbm");
+  EXPECT_EQ(c.stereo.matcher, StereoMatcher::sgbm);
   EXPECT_EQ(c.map.layers[1].size, 32);
   EXPECT_EQ(c.rules.kalman.time_inflation_m2, 0.0);
-  EXPECT_EQ(c.sensor.model, "ray");
+  EXPECT_EQ(c.sensor.model, SensorModel::ray);
 }
 
 TEST(Config, SetOfUnknownKeyOrBadIndexFails) {

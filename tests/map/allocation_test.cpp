@@ -68,7 +68,7 @@ void fill_cloud(PointCloud& cloud, std::mt19937_64& rng, double cx) {
 
 void run(const std::string& insertion, bool pose) {
   MapConfig map;
-  map.insertion = insertion;
+  map.insertion = *enum_value<Insertion>(insertion);
   const RuleKind rules_kinds[] = {RuleKind::ccm, RuleKind::ccm, RuleKind::ccm};
   const std::pair<double, int> sizes[] = {{0.04, 64}, {0.08, 32}, {0.16, 16}};
   for (int i = 0; i < 3; ++i) {

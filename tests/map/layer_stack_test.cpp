@@ -42,7 +42,7 @@ PointCloud random_cloud(std::mt19937_64& rng, int n, double extent) {
 
 MapConfig stack(RuleKind rule, const std::string& insertion, std::vector<std::pair<double, int>> layers) {
   MapConfig map;
-  map.insertion = insertion;
+  map.insertion = *enum_value<Insertion>(insertion);
   for (auto [r, n] : layers) {
     LayerConfig l;
     l.resolution_m = r;
@@ -204,7 +204,7 @@ TEST(LayerStack, MixedFamiliesNeedAllLayers) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("map.layers.1.rule"), std::string::npos) << e.what();
   }
-  c.map.insertion = "all_layers";
+  c.map.insertion = Insertion::all_layers;
   EXPECT_NO_THROW(validate(c));
 }
 

@@ -196,7 +196,7 @@ TEST(PublishedGrids, CcmNoiseVarianceAndLateralCovarianceEqualBatch) {
   const double r = 0.04;
   for (const double cap : {1e300, 3e4}) {
     RulesConfig rules;
-    rules.ccm.weighting = "trace";
+    rules.ccm.weighting = CcmWeighting::trace;
     rules.ccm.max_weight = cap;
     LayerStack s(one_layer(RuleKind::ccm, r, 8), rules);
     std::mt19937_64 rng(6);

@@ -42,7 +42,7 @@ Config writer_config(const std::string& format, int queue_frames) {
   ccm.resolution_m = 0.04;
   ccm.size = 32;
   c.map.layers.push_back(ccm);
-  c.output.format = format;
+  c.output.format = *enum_value<GridFormat>(format);
   c.output.queue_frames = queue_frames;
   c.output.mosaic = true;
   return c;

@@ -59,7 +59,7 @@ StereoConfig flight_stereo() {
 /// Obstacles lower than the camera (0.15 m) and gentle slopes: bands well short of the
 /// cap, so strips differ in range and most start above disparity 0.
 StereoConfig tight_band(StereoConfig s) {
-  s.search = "ground_band";
+  s.search = DisparitySearch::ground_band;
   s.band_max_slope_deg = 10.0;
   s.band_max_height_m = 0.03;
   s.band_max_depth_m = 0.1;
@@ -99,7 +99,7 @@ class BandEqualsFullSearch : public ::testing::Test {
     DisparityMatcher band(stereo, geometry_of(*rig_), rig_->T_B_CL, size);
     EXPECT_NE(band.band(), nullptr);
     StereoConfig full_config = stereo;
-    full_config.search = "full";
+    full_config.search = DisparitySearch::full;
     full_config.min_disparity = 0;
     full_config.num_disparities = band.band()->end_searched();
     DisparityMatcher full(full_config);
@@ -178,11 +178,11 @@ TEST_F(BandEqualsFullSearch, NearlyAlwaysWithFlightChecks) {
 // 1 px; the rest are invalidated by SGBM's own uniqueness and left-right checks).
 TEST_F(BandEqualsFullSearch, SgbmStripsStayCloseToAFullSearch) {
   StereoConfig s = tight_band(flight_stereo());
-  s.matcher = "sgbm";
+  s.matcher = StereoMatcher::sgbm;
   const cv::Size size(rig_->camera.width_px, rig_->camera.height_px);
   DisparityMatcher band(s, geometry_of(*rig_), rig_->T_B_CL, size);
   StereoConfig full_config = s;
-  full_config.search = "full";
+  full_config.search = DisparitySearch::full;
   full_config.num_disparities = band.band()->end_searched();
   DisparityMatcher full(full_config);
   cv::Mat d_band, d_full;
@@ -255,7 +255,7 @@ TEST(BandMatcher, NearGroundIsMatchedNotPushedBelowTheSurface) {
 
   for (const StereoConfig& band : {tight_band(full), [&] {
                                      StereoConfig d = full;  // SPEC defaults: 30 deg, 0.5 m, 0.5 m
-                                     d.search = "ground_band";
+                                     d.search = DisparitySearch::ground_band;
                                      return d;
                                    }()}) {
     run(band, below, near, total);

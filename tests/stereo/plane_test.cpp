@@ -67,7 +67,7 @@ TEST_P(ExactPlane, DepthAndTiltRecovered) {
   cv::imwrite((dir / "r.png").string(), testing::render_plane(plane, calib.right, T_W_CR, {w, h}));
 
   StereoConfig stereo;
-  stereo.matcher = pc.matcher;
+  stereo.matcher = *enum_value<StereoMatcher>(pc.matcher);
   stereo.num_disparities = 96;
   stereo.z_min_m = 0.1;
   stereo.z_max_m = 20.0;

@@ -88,7 +88,7 @@ TEST(PointCloudBuilder, PointAndRayCovarianceGoThroughR1AndTheBodyPose) {
   stereo.z_max_m = 100;
   for (const std::string model : {"axis", "ray"}) {
     SensorConfig sensor;
-    sensor.model = model;
+    sensor.model = *enum_value<SensorModel>(model);
     const Eigen::Matrix3d R1 =
         Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
     Pose3d T_B_C = Pose3d::Identity();

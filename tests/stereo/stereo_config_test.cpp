@@ -30,8 +30,8 @@ TEST(StereoConfig, EveryKnobParsesAndRoundTrips) {
                                     "stride: 2, z_min: 0.2, z_max: 4}\n",
                                 "s.yaml");
   const StereoConfig& s = c.stereo;
-  EXPECT_EQ(s.sgbm_mode, "hh4");
-  EXPECT_EQ(s.pre_filter_type, "xsobel");
+  EXPECT_EQ(s.sgbm_mode, SgbmMode::hh4);
+  EXPECT_EQ(s.pre_filter_type, PreFilterType::xsobel);
   EXPECT_EQ(s.pre_filter_size, 15);
   EXPECT_EQ(s.input_bits, 12);
   EXPECT_EQ(s.roi_px, (std::array<int, 4>{10, 20, 300, 200}));
@@ -44,13 +44,13 @@ TEST(StereoConfig, EveryKnobParsesAndRoundTrips) {
   // Both matchers accept every mode and pre-filter the config allows.
   for (const char* mode : {"sgbm", "hh", "sgbm_3way", "hh4"}) {
     StereoConfig sgbm = s;
-    sgbm.sgbm_mode = mode;
+    sgbm.sgbm_mode = *enum_value<SgbmMode>(mode);
     EXPECT_NO_THROW(DisparityMatcher{sgbm}) << mode;
   }
   for (const char* type : {"normalized_response", "xsobel"}) {
     StereoConfig bm = s;
-    bm.matcher = "bm";
-    bm.pre_filter_type = type;
+    bm.matcher = StereoMatcher::bm;
+    bm.pre_filter_type = *enum_value<PreFilterType>(type);
     EXPECT_NO_THROW(DisparityMatcher{bm}) << type;
   }
 }
@@ -76,7 +76,7 @@ TEST(StereoConfig, BadValuesNameTheKey) {
 // values name their key.
 TEST(StereoConfig, GroundBandKeys) {
   const Config defaults = parse_config(kLayers, "s.yaml");
-  EXPECT_EQ(defaults.stereo.search, "full");
+  EXPECT_EQ(defaults.stereo.search, DisparitySearch::full);
   EXPECT_EQ(defaults.stereo.band_max_slope_deg, 30.0);
   EXPECT_EQ(defaults.stereo.band_max_height_m, 0.5);
   EXPECT_EQ(defaults.stereo.band_max_depth_m, 0.5);
@@ -84,14 +84,14 @@ TEST(StereoConfig, GroundBandKeys) {
                                     "stereo: {search: ground_band, band_max_slope_deg: 12.5, "
                                     "band_max_height: 0.04, band_max_depth: 0.2}\n",
                                 "s.yaml");
-  EXPECT_EQ(c.stereo.search, "ground_band");
+  EXPECT_EQ(c.stereo.search, DisparitySearch::ground_band);
   const Config again = parse_config(to_yaml(c), "dump");
-  EXPECT_EQ(again.stereo.search, "ground_band");
+  EXPECT_EQ(again.stereo.search, DisparitySearch::ground_band);
   EXPECT_EQ(again.stereo.band_max_slope_deg, 12.5);
   EXPECT_EQ(again.stereo.band_max_height_m, 0.04);
   EXPECT_EQ(again.stereo.band_max_depth_m, 0.2);
   const Config set = parse_config(kLayers, "s.yaml", {"stereo.search=ground_band"});
-  EXPECT_EQ(set.stereo.search, "ground_band");
+  EXPECT_EQ(set.stereo.search, DisparitySearch::ground_band);
 
   EXPECT_NE(error_of("stereo: {search: band}\n")
                 .find("key 'stereo.search': 'band' is not one of full | ground_band"),
@@ -104,7 +104,7 @@ TEST(StereoConfig, GroundBandKeys) {
             "config: key 'stereo.band_max_depth': must be finite and >= 0");
   // The full-search-only matcher refuses the band rather than silently searching fully.
   StereoConfig band;
-  band.search = "ground_band";
+  band.search = DisparitySearch::ground_band;
   EXPECT_THROW(DisparityMatcher{band}, Error);
 }
 

@@ -34,7 +34,7 @@ const MapPoints& frame_points(bool far, bool trace = false) {
 }
 
 MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
-                   const std::string& insertion = "all_layers") {
+                   Insertion insertion = Insertion::all_layers) {
   MapConfig map;
   map.insertion = insertion;
   for (const auto& [rule, r, n] : layers) {
@@ -158,7 +158,7 @@ void BM_ThesisCcmAllLayers(benchmark::State& s) {
 void BM_ThesisCcmPooled(benchmark::State& s) {
   run_insert(s, make_map({{RuleKind::ccm, 0.04, 42}, {RuleKind::ccm, 0.08, 32}, {RuleKind::ccm, 0.16, 28},
                           {RuleKind::ccm, 0.32, 18}, {RuleKind::ccm, 0.64, 16}},
-                         "finest_then_pool"));
+                         Insertion::finest_then_pool));
 }
 
 // Argument: 0 = points within 3 m (as the shipped configs' z_max), 1 = within 5 m.

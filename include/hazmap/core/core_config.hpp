@@ -7,12 +7,35 @@
 #include <string>
 #include <vector>
 
+#include "hazmap/core/enum_names.hpp"
 #include "hazmap/rules/kalman.hpp"
 
 namespace hazmap {
 
 enum class RuleKind { bananas, kalman, omg, ccm };
 const char* rule_name(RuleKind kind);
+
+/// map.insertion (SPEC 5): every point into every layer, or into the finest layer holding
+/// it with the coarser layers' covered cells pooled from their children.
+enum class Insertion { all_layers, finest_then_pool };
+template <>
+struct EnumNames<Insertion> {
+  static constexpr const char* names[] = {"all_layers", "finest_then_pool"};
+};
+
+/// CCM point weighting (SPEC 4, rules.ccm.weighting).
+enum class CcmWeighting { constant, trace, det };
+template <>
+struct EnumNames<CcmWeighting> {
+  static constexpr const char* names[] = {"constant", "trace", "det"};
+};
+
+/// hazard.roughness: the piecewise-constant kernel statistic (SPEC 8.1).
+enum class RoughnessStatistic { range, detrended };
+template <>
+struct EnumNames<RoughnessStatistic> {
+  static constexpr const char* names[] = {"range", "detrended"};
+};
 
 struct LayerHazardConfig {
   int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
@@ -34,7 +57,7 @@ struct LayerConfig {
 };
 
 struct MapConfig {
-  std::string insertion = "all_layers";  ///< all_layers | finest_then_pool
+  Insertion insertion = Insertion::all_layers;
   std::vector<LayerConfig> layers;
 };
 
@@ -45,7 +68,7 @@ struct OmgConfig {
 };
 
 struct CcmConfig {
-  std::string weighting = "constant";  ///< constant | trace | det
+  CcmWeighting weighting = CcmWeighting::constant;
   bool full_plane = true;
   double max_weight = 500;
   int min_points = 10;
@@ -63,10 +86,10 @@ struct HazardConfig {
   double max_slope_deg = 20.0;
   double wheelbase_m = 0.30;
   double min_kernel_fill = 0.5;  ///< fraction of kernel cells that must be observed
-  /// Piecewise-constant kernel statistic (SPEC 8.1): "range" (max - min of the heights,
-  /// the thesis') or "detrended" (max - min of the residuals from the kernel's
+  /// Piecewise-constant kernel statistic (SPEC 8.1): range (max - min of the heights,
+  /// the thesis') or detrended (max - min of the residuals from the kernel's
   /// least-squares plane, with the wheel ring's vehicle-slope test taking over slopes).
-  std::string roughness = "range";
+  RoughnessStatistic roughness = RoughnessStatistic::range;
   /// CCM: slope evidence from one axis of a partly covered cell needs that axis' coverage
   /// (points' variance along it over r^2/12; a strip w wide has (w / r)^2) at least this:
   /// 0.1, the axis spans a third of the cell.

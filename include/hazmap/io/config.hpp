@@ -9,14 +9,57 @@
 #include <vector>
 
 #include "hazmap/core/core_config.hpp"
+#include "hazmap/core/enum_names.hpp"
+#include "hazmap/stereo/sensor_model.hpp"
 
 namespace hazmap {
+
+/// stereo.matcher: cv::StereoBM or cv::StereoSGBM.
+enum class StereoMatcher { bm, sgbm };
+template <>
+struct EnumNames<StereoMatcher> {
+  static constexpr const char* names[] = {"bm", "sgbm"};
+};
+
+/// stereo.sgbm_mode: cv::StereoSGBM's MODE_SGBM, MODE_HH, MODE_SGBM_3WAY, MODE_HH4.
+enum class SgbmMode { sgbm, hh, sgbm_3way, hh4 };
+template <>
+struct EnumNames<SgbmMode> {
+  static constexpr const char* names[] = {"sgbm", "hh", "sgbm_3way", "hh4"};
+};
+
+/// stereo.pre_filter_type: StereoBM's PREFILTER_NORMALIZED_RESPONSE or PREFILTER_XSOBEL.
+enum class PreFilterType { normalized_response, xsobel };
+template <>
+struct EnumNames<PreFilterType> {
+  static constexpr const char* names[] = {"normalized_response", "xsobel"};
+};
+
+/// stereo.search (SPEC 3.4): one disparity range for the image, or per-strip ground bands.
+enum class DisparitySearch { full, ground_band };
+template <>
+struct EnumNames<DisparitySearch> {
+  static constexpr const char* names[] = {"full", "ground_band"};
+};
+
+/// sensor.model (SPEC 4): the thesis' axis-aligned errors or first-order ray propagation.
+template <>
+struct EnumNames<SensorModel> {
+  static constexpr const char* names[] = {"axis", "ray"};
+};
+
+/// output.format: the grid files written.
+enum class GridFormat { jdem, geotiff, both };
+template <>
+struct EnumNames<GridFormat> {
+  static constexpr const char* names[] = {"jdem", "geotiff", "both"};
+};
 
 /// Largest stereo.stride validate() accepts (pixels).
 constexpr int kMaxStride = 4096;
 
 struct StereoConfig {
-  std::string matcher = "bm";       ///< bm | sgbm
+  StereoMatcher matcher = StereoMatcher::bm;
   int num_disparities = 128;        ///< multiple of 16
   int block_size = 11;              ///< odd
   int min_disparity = 0;
@@ -28,8 +71,8 @@ struct StereoConfig {
   int disp12_max_diff = -1;         ///< left-right consistency in px; -1 disables
   int sgbm_p1 = 0;                  ///< 0: 8 * block_size^2
   int sgbm_p2 = 0;                  ///< 0: 32 * block_size^2
-  std::string sgbm_mode = "hh";     ///< sgbm | hh | sgbm_3way | hh4
-  std::string pre_filter_type = "normalized_response";  ///< StereoBM: normalized_response | xsobel
+  SgbmMode sgbm_mode = SgbmMode::hh;
+  PreFilterType pre_filter_type = PreFilterType::normalized_response;  ///< StereoBM only
   int pre_filter_size = 9;          ///< StereoBM normalized_response window: odd, 5..255
   /// Significant bits of 16-bit input (10, 12, ...: the pair is scaled by 2^(8 - bits) to
   /// 8 bit); 0 detects them per pair from the brighter image. Ignored for 8-bit input.
@@ -78,14 +121,14 @@ struct StereoConfig {
   /// SPEC 3.4: `full` searches [min_disparity, min_disparity + num_disparities) in every
   /// row; `ground_band` searches per horizontal strip only the disparities terrain can
   /// produce there (ground_band.hpp), whatever num_disparities says.
-  std::string search = "full";
+  DisparitySearch search = DisparitySearch::full;
   double band_max_slope_deg = 30.0;  ///< ground_band: wheel plane tilted up to this [deg]
   double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
   double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
 };
 
 struct SensorConfig {
-  std::string model = "axis";       ///< axis | ray (SPEC 4)
+  SensorModel model = SensorModel::axis;
   double pointing_error_px = 0.5;
   double disparity_error_px = 0.25;
 };
@@ -101,9 +144,9 @@ struct OutputConfig {
   int every_n = 1;        ///< write every n-th frame (and always the last)
   bool png = true;
   bool jdem = true;       ///< write the grid files (in `format`)
-  /// Grid file format: "jdem" (text, SPEC 9), "geotiff" (float32, DEFLATE, GDAL) or
-  /// "both" (e.g. GeoTIFF for GIS tools and JDEM for `hazmap evaluate`).
-  std::string format = "jdem";
+  /// Grid file format: jdem (text, SPEC 9), geotiff (float32, DEFLATE, GDAL) or
+  /// both (e.g. GeoTIFF for GIS tools and JDEM for `hazmap evaluate`).
+  GridFormat format = GridFormat::jdem;
   /// Finished frames waiting for the writer thread; the frame loop waits only when this
   /// many are queued. 0: write on the frame loop's thread (synchronous).
   int queue_frames = 2;

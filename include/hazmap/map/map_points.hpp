@@ -7,13 +7,11 @@
 
 #include <vector>
 
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/map/point_chunk.hpp"
 
 namespace hazmap {
-
-/// CCM point weighting (SPEC 4, rules.ccm.weighting).
-enum class CcmWeighting { constant, trace, det };
 
 /// CCM point weight from the world-frame covariance: constant 1 (the thesis' final
 /// choice), trace 1 / trace(Sigma_W) [1/m^2] or det 1 / det(Sigma_W) [1/m^6]. Computed in

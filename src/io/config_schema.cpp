@@ -1,0 +1,338 @@
+// The configuration's keys, one line each (io/config_schema.hpp): name, member, unit,
+// help, checks. Defaults are the struct members' own initialisers.
+#include "hazmap/io/config_schema.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <type_traits>
+#include <utility>
+
+#include "hazmap/map/grid_math.hpp"
+#include "hazmap/rules/rule_registry.hpp"
+
+namespace hazmap {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The member a key binds, as a function pointer (one per key, no captures).
+#define CONFIG_FIELD(member) +[](Config& c) -> auto& { return c.member; }
+#define LAYER_FIELD(member) +[](LayerConfig& l) -> auto& { return l.member; }
+
+// Checks, by the shape of their interval ("[)": closed below, open above).
+ValueCheck in(double lo, double hi, const char* ends, std::string what = "") {
+  ValueCheck c;
+  c.lo = lo;
+  c.hi = hi;
+  c.lo_open = ends[0] == '(';
+  c.hi_open = ends[1] == ')';
+  c.what = std::move(what);
+  return c;
+}
+ValueCheck at_least(double lo, std::string what = "") { return in(lo, kInf, "[]", std::move(what)); }
+ValueCheck above(double lo, std::string what = "") { return in(lo, kInf, "(]", std::move(what)); }
+ValueCheck odd_in(double lo, double hi, std::string what) {
+  ValueCheck c = in(lo, hi, "[]", std::move(what));
+  c.odd = true;
+  return c;
+}
+ValueCheck finite(std::string what, double lo = -kInf, double hi = kInf) {
+  ValueCheck c = in(lo, hi, "[]", std::move(what));
+  c.finite = true;
+  return c;
+}
+ValueCheck or_exactly(double except, ValueCheck c) {
+  c.has_except = true;
+  c.except = except;
+  return c;
+}
+ValueCheck multiple_of(int n, ValueCheck c) {
+  c.multiple_of = n;
+  return c;
+}
+
+std::string number_text(double v) {
+  if (v == std::floor(v) && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+}  // namespace
+
+bool ValueCheck::passes(double value) const {
+  if (has_except && value == except) return true;
+  if (finite && !std::isfinite(value)) return false;
+  if (!(lo_open ? value > lo : value >= lo)) return false;
+  if (!(hi_open ? value < hi : value <= hi)) return false;
+  if (odd && std::fmod(value, 2.0) == 0) return false;
+  if (multiple_of != 0 && std::fmod(value, multiple_of) != 0) return false;
+  return true;
+}
+
+std::string ValueCheck::message() const {
+  if (!what.empty()) return what;
+  if (hi == kInf) return std::string("must be ") + (lo_open ? "> " : ">= ") + number_text(lo);
+  return std::string("must be in ") + (lo_open ? "(" : "[") + number_text(lo) + ", " +
+         number_text(hi) + (hi_open ? ")" : "]");
+}
+
+const std::vector<TopKey>& config_keys() {
+  static const std::vector<TopKey> keys = {
+      // stereo (SPEC 3)
+      {"stereo.matcher", CONFIG_FIELD(stereo.matcher), "", "`bm` (cv::StereoBM) or `sgbm` (cv::StereoSGBM)", {}},
+      {"stereo.num_disparities", CONFIG_FIELD(stereo.num_disparities), "px",
+       "search range, multiple of 16; must cover the nearest ground (d = f B / z) or it is mismatched: level, the 0.4-scale image bottom needs 122 px, pitched down a 15-20 deg slope > 150 px",
+       {multiple_of(16, above(0, "must be a positive multiple of 16"))}, false, "shipped 0.4-scale configs 160"},
+      {"stereo.block_size", CONFIG_FIELD(stereo.block_size), "px", "odd window size", {odd_in(5, 255, "must be odd and in [5, 255]")}},
+      {"stereo.min_disparity", CONFIG_FIELD(stereo.min_disparity), "px", "disparities <= this are invalid", {at_least(0)}},
+      {"stereo.uniqueness_ratio", CONFIG_FIELD(stereo.uniqueness_ratio), "%", "margin of the best match", {at_least(0)}},
+      {"stereo.texture_threshold", CONFIG_FIELD(stereo.texture_threshold), "", "StereoBM: minimum texture", {at_least(0)}},
+      {"stereo.pre_filter_cap", CONFIG_FIELD(stereo.pre_filter_cap), "", "OpenCV's pre-filter cap", {in(1, 63, "[]")}},
+      {"stereo.speckle_window", CONFIG_FIELD(stereo.speckle_window), "px", "speckle filter's region size; 0 off", {at_least(0)}},
+      {"stereo.speckle_range", CONFIG_FIELD(stereo.speckle_range), "px", "speckle filter's disparity range (x16 for StereoBM, SPEC 3)", {at_least(0)}},
+      {"stereo.disp12_max_diff", CONFIG_FIELD(stereo.disp12_max_diff), "px",
+       "OpenCV's left-right check, -1 off; removes ground seen by the left camera only (behind rocks)", {}, false, "default.yaml: 1"},
+      {"stereo.sgbm_p1", CONFIG_FIELD(stereo.sgbm_p1), "", "SGBM penalty P1; 0: 8 x block^2", {at_least(0, "penalties must be >= 0")}},
+      {"stereo.sgbm_p2", CONFIG_FIELD(stereo.sgbm_p2), "", "SGBM penalty P2, greater than P1; 0: 32 x block^2", {at_least(0, "penalties must be >= 0")}},
+      {"stereo.sgbm_mode", CONFIG_FIELD(stereo.sgbm_mode), "", "SGBM mode", {}},
+      {"stereo.pre_filter_type", CONFIG_FIELD(stereo.pre_filter_type), "", "StereoBM pre-filter", {}},
+      {"stereo.pre_filter_size", CONFIG_FIELD(stereo.pre_filter_size), "px", "StereoBM `normalized_response` window (odd)", {odd_in(5, 255, "must be odd and in [5, 255]")}},
+      {"stereo.input_bits", CONFIG_FIELD(stereo.input_bits), "bits",
+       "significant bits of 16-bit input (0 = detect per pair from the brighter image; 10 or 12 for low-bit sensors); ignored for 8-bit input",
+       {or_exactly(0, in(8, 16, "[]", "must be 0 (detect) or in [8, 16]"))}},
+      {"stereo.rectify_alpha", CONFIG_FIELD(stereo.rectify_alpha), "", "cv::stereoRectify alpha (-1: OpenCV's default)",
+       {or_exactly(-1, in(0, 1, "[]", "must be in [0, 1] (or -1 for OpenCV's default)"))}},
+      {"stereo.stride", CONFIG_FIELD(stereo.stride), "px", "use every n-th pixel in u and v",
+       // A stride of 4096 keeps one pixel per 4096 x 4096 block: beyond that a stride selects
+       // nothing more in any camera image, and near INT_MAX the pixel loop's counters overflowed.
+       {in(1, kMaxStride, "[]", "must be in [1, " + std::to_string(kMaxStride) +
+                                    "] (a larger stride keeps at most one pixel of a 4096 px image)")}},
+      {"stereo.roi", CONFIG_FIELD(stereo.roi_px), "px",
+       "`[x, y, w, h]` in the rectified left image that produces points; width or height 0 = whole image",
+       {at_least(0, "x, y, width and height must be >= 0")}},
+      {"stereo.z_min", CONFIG_FIELD(stereo.z_min_m), "m", "depth gate: nearest point kept", {above(0)}},
+      {"stereo.z_max", CONFIG_FIELD(stereo.z_max_m), "m", "depth gate: farthest point kept (greater than `z_min`)"},
+      {"stereo.max_below_ground", CONFIG_FIELD(stereo.max_below_ground_m), "m",
+       "points farther below the wheel plane (body z = 0) are mismatches: dropped and counted (SPEC 3.3); <= 0 off",
+       {finite("must be finite (<= 0 disables the check)")}},
+      {"stereo.below_ground_tolerance", CONFIG_FIELD(stereo.below_ground_tolerance_m), "m",
+       "a point more than this below the wheel plane, seen along a ray that descends steeper than `max_depression_slope_deg`, could only be seen down a wall at least that steep: a mismatch (ground or a rock nearer than the search reaches), dropped and counted with `max_below_ground`",
+       {in(0, 1e3, "[)", "must be in [0, 1000) m")}},
+      {"stereo.max_depression_slope_deg", CONFIG_FIELD(stereo.max_depression_slope_deg), "deg",
+       "the ray slope of the check above; 90 off", {in(0, 90, "(]", "must be in (0, 90] deg (90: off)")}},
+      {"stereo.occlusion_reach", CONFIG_FIELD(stereo.occlusion_reach), "",
+       "points seen through terrain the map already knows are mismatches (ours; \"Stereo front end\", [docs/stereo.md](docs/stereo.md)): each ray is followed, out to `occlusion_reach` times the depth the disparity search cannot reach in its row (f B / highest disparity searched: 8.4 cm at 0.4 scale with 160), against the finest layer's heights and variances published the frame before; a point is dropped and counted (`points_occluded` in summary.json) when its ray passes more than `occlusion_margin` + 3 sigma below known terrain, or, nearer than the search reaches, below an unseen cell next to seen ones (`occlusion_fill`). Needs a map: `hazmap stereo` and `check` do not apply it. 0 off",
+       {in(0, 100, "[]", "must be in [0, 100] (0: off)")}},
+      {"stereo.occlusion_margin", CONFIG_FIELD(stereo.occlusion_margin_m), "m",
+       "how far (plus 3 sigma) a ray may pass below known terrain (`occlusion_reach`)", {in(0, 1e3, "[)", "must be in [0, 1000) m")}},
+      {"stereo.occlusion_fill", CONFIG_FIELD(stereo.occlusion_fill_m), "m",
+       "an unseen cell next to seen ones counts as high as the highest seen cell within this distance (rounded up to whole cells of the finest layer; default the smallest hazard's width, SPEC 11); 0: unseen cells block nothing",
+       {in(0, 10, "[]", "must be in [0, 10] m")}},
+      {"stereo.support_rows", CONFIG_FIELD(stereo.support_rows), "px",
+       "unsupported disparities: a pixel whose disparity exceeds, by more than `support_tolerance` and `support_margin_px`, most of the valid pixels in the `support_rows` rows below it floats (nothing seen from above the ground can): removed and counted (`disparities_unsupported` in summary.json). Catches sky-line mismatches on a black sky; drops overhangs too, so keep it off indoors. 0 off",
+       {in(0, 100000, "[]", "must be in [0, 100000] pixels (0: off)")}, false, "shipped: 32"},
+      {"stereo.support_tolerance", CONFIG_FIELD(stereo.support_tolerance), "",
+       "relative margin of the support check: farther is disparity < d (1 - tolerance) - margin", {in(0, 1, "[)")}},
+      {"stereo.support_margin_px", CONFIG_FIELD(stereo.support_margin_px), "px", "absolute margin of the support check",
+       {in(0, 1e4, "[)", "must be in [0, 1e4) pixels")}},
+      {"stereo.search", CONFIG_FIELD(stereo.search), "",
+       "`full`: one range `[min_disparity, min_disparity + num_disparities)` for the whole image; `ground_band` (SPEC 3.4): horizontal strips, each searching only the disparities terrain can produce in its rows (from the camera's pose on the body), strips in parallel; not limited by `num_disparities`, capped at f B / `z_min` and by the image width; pixels outside their strip's band are invalid. StereoBM gives a full search's disparities inside the band",
+       {}},
+      {"stereo.band_max_slope_deg", CONFIG_FIELD(stereo.band_max_slope_deg), "deg",
+       "`ground_band` terrain: the wheel plane tilted up to this slope about the point below the camera", {in(0, 90, "[)")}},
+      {"stereo.band_max_height", CONFIG_FIELD(stereo.band_max_height_m), "m",
+       "`ground_band` terrain: obstacles up to this above the wheel plane. With obstacles taller than the camera is high (CADRE: 0.15 m) every band reaches the cap",
+       {finite("must be finite and >= 0", 0)}},
+      {"stereo.band_max_depth", CONFIG_FIELD(stereo.band_max_depth_m), "m",
+       "`ground_band` terrain: depressions down to this below the wheel plane", {finite("must be finite and >= 0", 0)}},
+      // sensor (SPEC 4)
+      {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}},
+      {"sensor.pointing_error_px", CONFIG_FIELD(sensor.pointing_error_px), "px", "pixel noise p", {at_least(0)}},
+      {"sensor.disparity_error_px", CONFIG_FIELD(sensor.disparity_error_px), "px", "matching noise m", {above(0)}},
+      // map (SPEC 5, 6)
+      {"map.insertion", CONFIG_FIELD(map.insertion), "",
+       "`all_layers`: every point into every layer; `finest_then_pool`: into the finest layer holding it (and coarse cells not fully covered by the finer layer), covered coarse cells rebuilt as prior (+) pooled children (SPEC 5, 6.5); needs one rule family per consecutive pair",
+       {}},
+      {"map.layers", {}, "",
+       "the layers, finest first, resolutions integer multiples (keys `map.layers[].*` below); the robot must stay within 2^30 cells of W's origin in every layer (and poses within 1e7 m)", {}, true},
+      // rules (SPEC 6)
+      {"rules.kalman.time_inflation", CONFIG_FIELD(rules.kalman.time_inflation_m2), "m^2",
+       "added to every known cell's variance per frame", {at_least(0)}},
+      {"rules.kalman.min_variance", CONFIG_FIELD(rules.kalman.min_variance_m2), "m^2",
+       "variance floor, applied after each run of points in a cell", {at_least(0)}},
+      {"rules.kalman.gate_sigma", CONFIG_FIELD(rules.kalman.gate_sigma), "",
+       "drop a point with \\|z - mu\\| > gate x sqrt(var + sigma_m^2) against a known cell: one wild point does not move a converged cell; 0 off. Off in the shipped configs: it also locks in a cell first built from a correlated stereo error (a blob of one frame, 2 cm off, kept for 15 frames)",
+       {at_least(0)}},
+      {"rules.omg.max_weight", CONFIG_FIELD(rules.omg.max_weight), "", "cap on S", {above(0)}},
+      {"rules.omg.decay", CONFIG_FIELD(rules.omg.decay), "", "S *= decay per frame", {in(0, 1, "(]")}},
+      {"rules.omg.gate_sigma", CONFIG_FIELD(rules.omg.gate_sigma), "", "as `rules.kalman.gate_sigma` (SPEC 4 consistency gate); 0 off", {at_least(0)}},
+      {"rules.ccm.weighting", CONFIG_FIELD(rules.ccm.weighting), "",
+       "`constant` (w = 1), `trace` (1/trace Sigma), `det` (1/det Sigma; needs `sensor.pointing_error_px` > 0)", {}},
+      {"rules.ccm.full_plane", CONFIG_FIELD(rules.ccm.full_plane), "", "solve slopes with Sxy; false: the thesis' diagonal forms"},
+      {"rules.ccm.max_weight", CONFIG_FIELD(rules.ccm.max_weight), "",
+       "W cap, applied once per frame after the frame's merge; near the rover one frame brings hundreds of points into a 4 cm cell, so a cap near that lets partial views at the image bottom wipe out the cell's lateral coverage",
+       {above(0)}, false, "shipped configs 1e5"},
+      {"rules.ccm.min_points", CONFIG_FIELD(rules.ccm.min_points), "", "evaluable cell: at least this many points", {at_least(1)}},
+      {"rules.ccm.min_coverage", CONFIG_FIELD(rules.ccm.min_coverage), "", "evaluable cell: points spread over at least this share of the cell", {at_least(0)}},
+      {"rules.ccm.max_std_ratio", CONFIG_FIELD(rules.ccm.max_std_ratio), "", "the layers' default `max_std_ratio`; 0 off", {at_least(0)}},
+      // hazard (SPEC 8)
+      {"hazard.max_slope_deg", CONFIG_FIELD(hazard.max_slope_deg), "deg", "greatest traversable slope", {in(0, 90, "()")}},
+      {"hazard.wheelbase", CONFIG_FIELD(hazard.wheelbase_m), "m", "the rover's wheelbase",
+       // Both this and footprint_radius become a reach in cells (radius / resolution, as an
+       // int): 100 m is beyond any rover and keeps that reach within int at 1e-4 m cells.
+       {in(0, 100, "(]", "must be in (0, 100] m (a reach in cells must fit an int)")}},
+      {"hazard.min_kernel_fill", CONFIG_FIELD(hazard.min_kernel_fill), "", "fraction of kernel cells that must be observed to prove a cell traversable", {in(0, 1, "[]")}},
+      {"hazard.roughness", CONFIG_FIELD(hazard.roughness), "",
+       "piecewise-constant kernel statistic on layers finer than the wheelbase: `range` (max - min, SPEC 8.1, the thesis') or `detrended` (max - min of the residuals about the kernel's least-squares plane; slopes go to the wheel ring's vehicle-slope test, and a kernel plane rising h_min within the kernel's radius is face evidence)",
+       {}, false, "shipped flight/default configs: `detrended`"},
+      {"hazard.min_axis_coverage", CONFIG_FIELD(hazard.min_axis_coverage), "",
+       "CCM: slope evidence from one axis of a partly covered cell needs the points' variance along it >= this x r^2/12 (a strip a third of the cell wide); across thinner strips the spread is the points' own ray-correlated noise (measured: 56 and 65 deg read on a 15 deg ramp across strips of coverage 0.04 and 0.02). A trade: with `cadre_flight` it ends the ramp's footprint false alarms (2.9 % -> 0) and costs 25 deg ramp recall (63 -> 50 % within 1.5 m; 0.25: 45 %)",
+       {in(0, 1, "[]")}},
+      {"hazard.k_sigma", CONFIG_FIELD(hazard.k_sigma), "", "hazard when s - k sigma > T, traversable when s + k sigma <= T (SPEC 8)", {in(0, 100, "[]")}},
+      {"hazard.critical_height", CONFIG_FIELD(hazard.critical_height_m), "m",
+       "smallest obstacle the rover must avoid: only layers with h_min <= it may call a fused cell traversable (SPEC 8.4); < 0: the finest layer's h_min"},
+      {"hazard.footprint_radius", CONFIG_FIELD(hazard.footprint_radius_m), "m",
+       "radius of the footprint map's disc (SPEC 8.5), at most 100; < 0: wheelbase / 2",
+       {finite("must be finite and <= 100 m, a reach in cells must fit an int (< 0: wheelbase / 2)", -kInf, 100)}},
+      {"hazard.fused_extent", CONFIG_FIELD(hazard.fused_extent_m), "m",
+       "side of the fused and footprint maps, at the finest resolution; 0: the largest layer's extent",
+       {in(0, 1e4, "[)", "must be in [0, 1e4) m (0: the largest layer's extent)")}},
+      {"hazard.incremental", CONFIG_FIELD(hazard.incremental), "",
+       "SPEC 8.6: re-classify only cells whose result can have changed (identical maps; see \"Incremental hazard stage\", [docs/hazards.md](docs/hazards.md)); false: every cell every frame"},
+      // pose uncertainty (SPEC 7)
+      {"pose_uncertainty.enabled", CONFIG_FIELD(pose_uncertainty.enabled), "",
+       "inflate reported variance by the pose noise (poses.txt `sx sy sz syaw`) added since each cell's last update (SPEC 7)"},
+      // output (SPEC 9)
+      {"output.every_n", CONFIG_FIELD(output.every_n), "frames", "write every n-th frame (and always the last)", {at_least(1)}},
+      {"output.png", CONFIG_FIELD(output.png), "", "write the PNGs"},
+      {"output.jdem", CONFIG_FIELD(output.jdem), "", "write the grid files, in `output.format`"},
+      {"output.format", CONFIG_FIELD(output.format), "",
+       "grid files: `jdem` (text), `geotiff` (`.tif`: float32, DEFLATE, nodata NaN, georeferenced in W; see Outputs), `both` (GeoTIFF for GIS tools plus the JDEM that `hazmap evaluate` reads)",
+       {}},
+      {"output.queue_frames", CONFIG_FIELD(output.queue_frames), "frames",
+       "finished frames waiting for the writer thread (each holds a copy of every grid); the frame loop waits only when this many are queued; 0: write on the frame loop's thread",
+       {in(0, kMaxOutputQueueFrames, "[]",
+           "must be in [0, " + std::to_string(kMaxOutputQueueFrames) + "] (0: synchronous)")}},
+      {"output.png_min_size", CONFIG_FIELD(output.png_min_size), "px", "PNGs are enlarged by whole pixels per cell to at least this size", {in(1, 8192, "[]")}},
+      {"output.png_height_clip_pct", CONFIG_FIELD(output.png_height_clip_pct), "%",
+       "height PNGs colour the known cells' [p, 100 - p] percentiles (the full range is printed under the bar); 0: full range", {in(0, 50, "[)")}},
+      {"output.mosaic", CONFIG_FIELD(output.mosaic), "", "also write `OUT/mosaic/<frame>.png`: every layer side by side (same as `--mosaic`)"},
+  };
+  return keys;
+}
+
+const std::vector<LayerKey>& layer_keys() {
+  static const std::vector<LayerKey> keys = {
+      {"resolution", LAYER_FIELD(resolution_m), "m", "cell size; an integer multiple of the previous layer's",
+       {in(kMinResolutionM, kMaxResolutionM, "[]",
+           "must be in [1e-4, 1000] m (finer than 0.1 mm is far below any stereo point's error; "
+           "coarser than 1 km maps nothing a rover meets)")}, true},
+      {"size", LAYER_FIELD(size), "cells", "cells per side, even",
+       {multiple_of(2, at_least(2, "must be even and >= 2")),
+        in(-kInf, kMaxLayerSize, "[]",
+           "must be <= " + std::to_string(kMaxLayerSize) +
+               " (a layer's size^2 cells are addressed with 32-bit indices)")}, true},
+      {"rule", LAYER_FIELD(rule), "", "`kalman`, `omg`, `ccm` or `bananas` (baseline: last point)", {}, true},
+      {"max_std_ratio", LAYER_FIELD(max_std_ratio), "",
+       "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; < 0: `rules.ccm.max_std_ratio`",
+       {finite("must be finite")}},
+      {"hazard.kernel", LAYER_FIELD(hazard.kernel), "cells",
+       "piecewise-constant layers: roughness kernel diameter (odd, smaller than the layer)",
+       {odd_in(1, kInf, "must be odd, >= 1 and smaller than the layer size")}},
+      {"hazard.roughness_threshold", LAYER_FIELD(hazard.roughness_threshold_m), "m",
+       "piecewise-constant roughness threshold; < 0: (kernel - 1) r tan(max_slope)"},
+      {"hazard.h_min", LAYER_FIELD(hazard.h_min_m), "m",
+       "smallest obstacle the layer vouches for (SPEC 8.1-8.4); < 0: CCM 0.75 r (rock face if inclination > atan(h_min / r)), piecewise constant its roughness threshold"},
+      {"hazard.rho_max", LAYER_FIELD(hazard.rho_max_m2), "m^2", "CCM roughness threshold; < 0: h_min^2 / 16"},
+  };
+  return keys;
+}
+
+#undef CONFIG_FIELD
+#undef LAYER_FIELD
+
+namespace {
+
+template <class Owner>
+std::vector<std::string> choices_of(const ConfigKey<Owner>& key) {
+  return std::visit(
+      [](auto field) -> std::vector<std::string> {
+        using F = decltype(field);
+        if constexpr (std::is_same_v<F, std::monostate>) {
+          return {};
+        } else {
+          using V = std::remove_reference_t<decltype(field(std::declval<Owner&>()))>;
+          if constexpr (std::is_same_v<V, RuleKind>) {
+            std::vector<std::string> names;
+            for (const char* n : rule_names()) names.emplace_back(n);
+            return names;
+          } else if constexpr (std::is_enum_v<V>) {
+            return enum_names<V>();
+          } else {
+            return {};
+          }
+        }
+      },
+      key.field);
+}
+
+template <class Owner>
+std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
+  if (key.required) return "required";
+  std::ostringstream text;
+  std::visit(
+      [&](auto field) {
+        using F = decltype(field);
+        if constexpr (std::is_same_v<F, std::monostate>) {
+        } else {
+          const auto& value = field(defaults);
+          using V = std::decay_t<decltype(value)>;
+          if constexpr (std::is_same_v<V, bool>) text << (value ? "true" : "false");
+          else if constexpr (std::is_same_v<V, RuleKind>) text << "`" << rule_name(value) << "`";
+          else if constexpr (std::is_enum_v<V>) text << "`" << enum_name(value) << "`";
+          else if constexpr (std::is_same_v<V, std::array<int, 4>>)
+            text << "`[" << value[0] << ", " << value[1] << ", " << value[2] << ", " << value[3] << "]`";
+          else text << value;
+        }
+      },
+      key.field);
+  if (!key.default_note.empty()) text << " (" << key.default_note << ")";
+  return text.str();
+}
+
+/// The values a key accepts: its choices or its checks' messages.
+template <class Owner>
+std::string allowed(const ConfigKey<Owner>& key) {
+  std::string text;
+  for (const std::string& c : key_choices(key)) text += (text.empty() ? "`" : " `") + c + "`";
+  for (const ValueCheck& c : key.checks) text += (text.empty() ? "" : "; ") + c.message();
+  return text;
+}
+
+template <class Owner>
+std::string row(const std::string& name, const ConfigKey<Owner>& key, Owner& defaults) {
+  return "| `" + name + "` | " + default_text(key, defaults) + " | " + key.unit + " | " +
+         allowed(key) + " | " + key.help + " |\n";
+}
+
+}  // namespace
+
+std::vector<std::string> key_choices(const TopKey& key) { return choices_of(key); }
+std::vector<std::string> key_choices(const LayerKey& key) { return choices_of(key); }
+
+std::string config_reference_markdown() {
+  std::string table = "| key | default | unit | allowed | meaning |\n|---|---|---|---|---|\n";
+  Config config;
+  for (const TopKey& k : config_keys()) {
+    table += row(k.name, k, config);
+    if (k.name != "map.layers") continue;
+    LayerConfig layer;
+    for (const LayerKey& l : layer_keys()) table += row("map.layers[]." + l.name, l, layer);
+  }
+  return table;
+}
+
+}  // namespace hazmap
