@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "hazmap/core/enum_names.hpp"
-#include "hazmap/rules/kalman.hpp"
 
 namespace hazmap {
 
@@ -61,6 +60,13 @@ struct MapConfig {
   std::vector<LayerConfig> layers;
 };
 
+/// Kalman's settings are the rule's own configuration (rules/kalman.hpp: KalmanRule::Config).
+struct KalmanConfig {
+  double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
+  double min_variance_m2 = 1.0e-6;    ///< convergence floor [m^2]
+  double gate_sigma = 0.0;            ///< SPEC 4 consistency gate (0 = off)
+};
+
 struct OmgConfig {
   double max_weight = 1.0e7;
   double decay = 1.0;
@@ -77,7 +83,7 @@ struct CcmConfig {
 };
 
 struct RulesConfig {
-  KalmanRule::Config kalman;
+  KalmanConfig kalman;
   OmgConfig omg;
   CcmConfig ccm;
 };

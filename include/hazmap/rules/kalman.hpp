@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
 #include "hazmap/map/point_chunk.hpp"
@@ -44,11 +45,9 @@ struct KalmanRule {
   /// Has the SPEC 4 consistency gate (gate_state).
   static constexpr bool kHeightGate = true;
 
-  struct Config {
-    double time_inflation_m2 = 1.0e-6;  ///< q added to var once per frame [m^2]
-    double min_variance_m2 = 1.0e-6;    ///< convergence floor [m^2]
-    double gate_sigma = 0.0;            ///< SPEC 4 consistency gate (0 = off)
-  };
+  /// As read from rules.kalman (core/core_config.hpp): time_inflation_m2, min_variance_m2,
+  /// gate_sigma.
+  using Config = KalmanConfig;
 
   /// precision 0 marks a cell that has never been observed.
   struct Cell {
