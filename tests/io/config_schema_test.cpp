@@ -57,7 +57,7 @@ TEST(ConfigSchema, EveryStructMemberHasAKey) {
   // A member added to a config struct without its line in config_schema.cpp fails here.
   const std::size_t members =
       member_count<StereoConfig>() + member_count<SensorConfig>() + member_count<MapConfig>() +
-      member_count<KalmanRule::Config>() + member_count<OmgConfig>() + member_count<CcmConfig>() +
+      member_count<KalmanConfig>() + member_count<OmgConfig>() + member_count<CcmConfig>() +
       member_count<HazardConfig>() + member_count<PoseUncertaintyConfig>() +
       member_count<OutputConfig>();
   EXPECT_EQ(config_keys().size(), members);  // map.layers is MapConfig::layers' entry
