@@ -110,7 +110,8 @@ void parse_layers(YamlMap& m, MapConfig& map) {
   const YAML::Node layers = m.sequence("layers");
   map.layers.clear();
   for (size_t i = 0; i < layers.size(); ++i) {
-    YamlMap l(layers[i], m.key_path("layers") + "." + std::to_string(i), m.source());
+    YamlMap l(layers[i], m.key_path("layers") + "." + std::to_string(i), m.source(),
+              m.overrides());
     LayerConfig layer;
     parse_map(l, layer_keys(), 0, layer_keys().size(), 0,
               [&](YamlMap& at, const std::string& name, const LayerKey& key) {
@@ -135,10 +136,11 @@ Config parse_config(const std::string& yaml_text, const std::string& source,
     throw Error(source + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
   }
   reject_duplicate_keys(root, source);
-  for (const auto& assignment : overrides) apply_yaml_override(root, assignment);
+  YamlOverrides set_keys;
+  for (const auto& assignment : overrides) apply_yaml_override(root, assignment, &set_keys);
 
   Config config;
-  YamlMap top(root, "", source);
+  YamlMap top(root, "", source, &set_keys);
   parse_map(top, config_keys(), 0, config_keys().size(), 0,
             [&](YamlMap& m, const std::string& name, const TopKey& key) {
               if (key.name == "map.layers") parse_layers(m, config.map);

@@ -40,11 +40,27 @@ void reject_duplicate_keys(const YAML::Node& root, const std::string& source) {
   check_duplicates(root, "", source);
 }
 
-YamlMap::YamlMap(const YAML::Node& node, std::string path, std::string source)
-    : node_(node), path_(std::move(path)), source_(std::move(source)) {
+YamlMap::YamlMap(const YAML::Node& node, std::string path, std::string source,
+                 const YamlOverrides* overrides)
+    : node_(node), path_(std::move(path)), source_(std::move(source)), overrides_(overrides) {
   if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
     throw Error(yaml_location(node_, source_) + "key '" + (path_.empty() ? "<top>" : path_) +
                 "': expected a map of keys");
+}
+
+std::string YamlMap::location(const std::string& key, const YAML::Node& node) const {
+  if (overrides_ != nullptr) {
+    // The key itself, or a map above it, set on the command line (the longest match).
+    std::string path = key_path(key);
+    while (true) {
+      const auto it = overrides_->find(path);
+      if (it != overrides_->end()) return "--set " + it->second + ": ";
+      const auto dot = path.rfind('.');
+      if (dot == std::string::npos) break;
+      path.resize(dot);
+    }
+  }
+  return yaml_location(node, source_);
 }
 
 std::string YamlMap::key_path(const std::string& key) const {
@@ -54,7 +70,7 @@ std::string YamlMap::key_path(const std::string& key) const {
 void YamlMap::fail(const std::string& key, const std::string& what) const {
   YAML::Node at = node_;
   if (node_.IsMap() && node_[key]) at = node_[key];
-  throw Error(yaml_location(at, source_) + "key '" + key_path(key) + "': " + what);
+  throw Error(location(key, at) + "key '" + key_path(key) + "': " + what);
 }
 
 bool YamlMap::has(const std::string& key) const {
@@ -120,9 +136,9 @@ void YamlMap::get(const std::string& key, std::vector<double>& out, size_t expec
 
 YamlMap YamlMap::child(const std::string& key) {
   read_.insert(key);
-  if (!has(key)) return YamlMap(YAML::Node(), key_path(key), source_);
+  if (!has(key)) return YamlMap(YAML::Node(), key_path(key), source_, overrides_);
   if (!node_[key].IsMap()) fail(key, "expected a map of keys");
-  return YamlMap(node_[key], key_path(key), source_);
+  return YamlMap(node_[key], key_path(key), source_, overrides_);
 }
 
 YAML::Node YamlMap::sequence(const std::string& key) {
@@ -142,7 +158,7 @@ void YamlMap::finish() const {
   for (const auto& item : node_) {
     const std::string key = item.first.Scalar();
     if (!read_.count(key))
-      throw Error(yaml_location(item.first, source_) + "unknown key '" + key_path(key) + "'");
+      throw Error(location(key, item.first) + "unknown key '" + key_path(key) + "'");
   }
 }
 
@@ -179,7 +195,8 @@ void set_path(YAML::Node node, const std::vector<std::string>& parts, size_t i,
 
 }  // namespace
 
-void apply_yaml_override(YAML::Node& root, const std::string& assignment) {
+void apply_yaml_override(YAML::Node& root, const std::string& assignment,
+                         YamlOverrides* applied) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error("--set " + assignment + ": expected KEY=VALUE");
@@ -203,6 +220,7 @@ void apply_yaml_override(YAML::Node& root, const std::string& assignment) {
   }
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   set_path(root, parts, 0, value, assignment);
+  if (applied != nullptr) (*applied)[key] = assignment;
 }
 
 }  // namespace hazmap

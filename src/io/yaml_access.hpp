@@ -2,6 +2,7 @@
 // Strict, typed access to a YAML mapping (private to the library). Every read names
 // the dotted key and the source line in its error; finish() rejects keys nobody read.
 
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -10,11 +11,17 @@
 
 namespace hazmap {
 
+/// Dotted key -> the `--set KEY=VALUE` that gave it its value. A value set on the command
+/// line has no line in the file, so its errors name the assignment instead.
+using YamlOverrides = std::map<std::string, std::string>;
+
 class YamlMap {
  public:
   /// `node` must be a map (or null/undefined, treated as empty). `path` is the dotted
-  /// prefix for messages ("" at the top), `source` the file name.
-  YamlMap(const YAML::Node& node, std::string path, std::string source);
+  /// prefix for messages ("" at the top), `source` the file name, `overrides` (kept by
+  /// reference, may be null) the keys set on the command line.
+  YamlMap(const YAML::Node& node, std::string path, std::string source,
+          const YamlOverrides* overrides = nullptr);
 
   bool has(const std::string& key) const;
 
@@ -45,13 +52,18 @@ class YamlMap {
   std::string key_path(const std::string& key) const;
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   const std::string& source() const { return source_; }
+  const YamlOverrides* overrides() const { return overrides_; }
 
  private:
   YAML::Node scalar(const std::string& key);
+  /// "source:line: " of `node`, or "--set KEY=VALUE: " if `key` (or a map holding it) was
+  /// set on the command line.
+  std::string location(const std::string& key, const YAML::Node& node) const;
 
   YAML::Node node_;
   std::string path_;
   std::string source_;
+  const YamlOverrides* overrides_ = nullptr;
   std::set<std::string> read_;
 };
 
@@ -63,6 +75,8 @@ std::string yaml_location(const YAML::Node& node, const std::string& source);
 void reject_duplicate_keys(const YAML::Node& root, const std::string& source);
 
 /// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index.
-void apply_yaml_override(YAML::Node& root, const std::string& assignment);
+/// Records the key in `applied` (if given) for error messages.
+void apply_yaml_override(YAML::Node& root, const std::string& assignment,
+                         YamlOverrides* applied = nullptr);
 
 }  // namespace hazmap

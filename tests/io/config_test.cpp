@@ -133,6 +133,25 @@ TEST(Config, SetOfUnknownKeyOrBadIndexFails) {
   EXPECT_NE(config_error(kMinimal, {"novalue"}).find("expected KEY=VALUE"), std::string::npos);
 }
 
+// A value given on the command line has no line in the file: its error names the
+// assignment, while the file's own keys keep their lines.
+TEST(Config, ErrorsInSetValuesNameTheAssignment) {
+  EXPECT_EQ(config_error(kMinimal, {"stereo.search=groundband"}),
+            "--set stereo.search=groundband: key 'stereo.search': 'groundband' is not one of "
+            "full | ground_band");
+  EXPECT_EQ(config_error(kMinimal, {"map.layers.1.size=x"}),
+            "--set map.layers.1.size=x: key 'map.layers.1.size': expected an integer, found 'x'");
+  EXPECT_EQ(config_error(kMinimal, {"stereo.nope=1"}), "--set stereo.nope=1: unknown key 'stereo.nope'");
+  // A whole map set on the command line: its keys are the assignment's.
+  EXPECT_EQ(config_error(kMinimal, {"rules.ccm={min_points: many}"}),
+            "--set rules.ccm={min_points: many}: key 'rules.ccm.min_points': expected an "
+            "integer, found 'many'");
+  // The file's keys beside a --set one keep their file and line.
+  const std::string file = "stereo:\n  z_max: 5\n  block_size: x\n" + std::string(kMinimal);
+  EXPECT_EQ(config_error(file, {"stereo.z_max=4"}),
+            "test.yaml:3: key 'stereo.block_size': expected an integer, found 'x'");
+}
+
 TEST(Config, DumpReparsesToTheSameValues) {
   const Config c = parse_config(kMinimal, "t",
                                 {"stereo.block_size=15", "hazard.wheelbase=0.4", "hazard.incremental=false"});
