@@ -27,25 +27,15 @@ void one_of(const YamlMap& m, const std::string& key, const std::string& value,
   m.fail(key, "'" + value + "' is not one of " + list);
 }
 
-/// The dotted name's parts: "rules.ccm.weighting" -> rules, ccm, weighting.
-std::vector<std::string> name_parts(const std::string& name) {
-  std::vector<std::string> parts;
-  std::string::size_type begin = 0;
-  for (std::string::size_type dot; (dot = name.find('.', begin)) != std::string::npos; begin = dot + 1)
-    parts.push_back(name.substr(begin, dot - begin));
-  parts.push_back(name.substr(begin));
-  return parts;
-}
-
 /// Keys [begin, end) of `keys` share their first `depth` parts; the run of keys from
 /// `begin` that also shares part `depth` and goes deeper (a nested map).
 template <class Key>
 std::size_t section_end(const std::vector<Key>& keys, std::size_t begin, std::size_t end,
                         std::size_t depth) {
-  const std::vector<std::string> first = name_parts(keys[begin].name);
+  const std::vector<std::string> first = dotted_parts(keys[begin].name);
   std::size_t j = begin + 1;
   for (; j < end; ++j) {
-    const std::vector<std::string> parts = name_parts(keys[j].name);
+    const std::vector<std::string> parts = dotted_parts(keys[j].name);
     if (parts.size() <= depth + 1 || parts[depth] != first[depth]) break;
   }
   return j;
@@ -57,7 +47,7 @@ template <class Key, class Leaf>
 void parse_map(YamlMap& m, const std::vector<Key>& keys, std::size_t begin, std::size_t end,
                std::size_t depth, const Leaf& leaf) {
   for (std::size_t i = begin; i < end;) {
-    const std::vector<std::string> parts = name_parts(keys[i].name);
+    const std::vector<std::string> parts = dotted_parts(keys[i].name);
     if (parts.size() == depth + 1) {
       leaf(m, parts[depth], keys[i]);
       ++i;
@@ -80,14 +70,13 @@ void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, 
         using F = decltype(field);
         if constexpr (std::is_same_v<F, std::monostate>) {
         } else if constexpr (std::is_enum_v<std::remove_reference_t<decltype(field(owner))>>) {
-          // Enums (and RuleKind, from the rule registry) are parsed here, once.
+          // Enums (RuleKind's names from the rule registry) are parsed here, once.
           using E = std::remove_reference_t<decltype(field(owner))>;
           if (!m.has(name)) return;
           std::string text;
           m.get(name, text);
           one_of(m, name, text, key_choices(key));
-          if constexpr (std::is_same_v<E, RuleKind>) field(owner) = *rule_kind(text);
-          else field(owner) = *enum_value<E>(text);
+          field(owner) = *enum_value<E>(text);
         } else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>) {
           if (!m.has(name)) return;
           std::vector<double> values;
@@ -253,8 +242,6 @@ void emit_value(YAML::Emitter& out, const ConfigKey<Owner>& key, Owner& owner) {
       [&](auto field) {
         using F = decltype(field);
         if constexpr (std::is_same_v<F, std::monostate>) {
-        } else if constexpr (std::is_same_v<F, RuleKind& (*)(Owner&)>) {
-          out << rule_name(field(owner));
         } else if constexpr (std::is_enum_v<std::remove_reference_t<decltype(field(owner))>>) {
           out << enum_name(field(owner));
         } else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>) {
@@ -274,7 +261,7 @@ template <class Key, class Value>
 void emit_map(YAML::Emitter& out, const std::vector<Key>& keys, std::size_t begin, std::size_t end,
               std::size_t depth, const Value& value) {
   for (std::size_t i = begin; i < end;) {
-    const std::vector<std::string> parts = name_parts(keys[i].name);
+    const std::vector<std::string> parts = dotted_parts(keys[i].name);
     out << YAML::Key << parts[depth] << YAML::Value;
     if (parts.size() == depth + 1) {
       value(keys[i]);

@@ -265,11 +265,7 @@ std::vector<std::string> choices_of(const ConfigKey<Owner>& key) {
           return {};
         } else {
           using V = std::remove_reference_t<decltype(field(std::declval<Owner&>()))>;
-          if constexpr (std::is_same_v<V, RuleKind>) {
-            std::vector<std::string> names;
-            for (const char* n : rule_names()) names.emplace_back(n);
-            return names;
-          } else if constexpr (std::is_enum_v<V>) {
+          if constexpr (std::is_enum_v<V>) {
             return enum_names<V>();
           } else {
             return {};
@@ -291,7 +287,6 @@ std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
           const auto& value = field(defaults);
           using V = std::decay_t<decltype(value)>;
           if constexpr (std::is_same_v<V, bool>) text << (value ? "true" : "false");
-          else if constexpr (std::is_same_v<V, RuleKind>) text << "`" << rule_name(value) << "`";
           else if constexpr (std::is_enum_v<V>) text << "`" << enum_name(value) << "`";
           else if constexpr (std::is_same_v<V, std::array<int, 4>>)
             text << "`[" << value[0] << ", " << value[1] << ", " << value[2] << ", " << value[3] << "]`";

@@ -195,6 +195,15 @@ void set_path(YAML::Node node, const std::vector<std::string>& parts, size_t i,
 
 }  // namespace
 
+std::vector<std::string> dotted_parts(const std::string& key) {
+  std::vector<std::string> parts;
+  std::string::size_type begin = 0;
+  for (std::string::size_type dot; (dot = key.find('.', begin)) != std::string::npos; begin = dot + 1)
+    parts.push_back(key.substr(begin, dot - begin));
+  parts.push_back(key.substr(begin));
+  return parts;
+}
+
 void apply_yaml_override(YAML::Node& root, const std::string& assignment,
                          YamlOverrides* applied) {
   const auto eq = assignment.find('=');
@@ -202,14 +211,7 @@ void apply_yaml_override(YAML::Node& root, const std::string& assignment,
     throw Error("--set " + assignment + ": expected KEY=VALUE");
   const std::string key = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
-  std::vector<std::string> parts;
-  size_t start = 0;
-  while (true) {
-    const auto dot = key.find('.', start);
-    parts.push_back(key.substr(start, dot - start));
-    if (dot == std::string::npos) break;
-    start = dot + 1;
-  }
+  const std::vector<std::string> parts = dotted_parts(key);
   for (const auto& p : parts)
     if (p.empty()) throw Error("--set " + assignment + ": empty key component");
   YAML::Node value;

@@ -74,6 +74,10 @@ std::string yaml_location(const YAML::Node& node, const std::string& source);
 /// one map anywhere under `root` (YAML parsers keep one of them silently).
 void reject_duplicate_keys(const YAML::Node& root, const std::string& source);
 
+/// The parts of a dotted key: "rules.ccm.weighting" -> rules, ccm, weighting (empty parts
+/// kept: "a..b" -> a, "", b).
+std::vector<std::string> dotted_parts(const std::string& key);
+
 /// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index.
 /// Records the key in `applied` (if given) for error messages.
 void apply_yaml_override(YAML::Node& root, const std::string& assignment,

@@ -112,6 +112,23 @@ constexpr Table<Entries...> table(RuleEntries<Entries...>) {
 inline constexpr const RuleInfo (&kRuleTable)[Rules::size] =
     decltype(rule_registry_detail::table(Rules{}))::rows;
 
+namespace rule_registry_detail {
+template <class... Entries>
+struct Names {
+  static constexpr const char* names[] = {Entries::type::kName...};
+};
+template <class... Entries>
+constexpr Names<Entries...> names_of(RuleEntries<Entries...>) {
+  return {};
+}
+}  // namespace rule_registry_detail
+
+/// RuleKind's names as a configuration enum (core/enum_names.hpp: enum_name, enum_value,
+/// enum_names): each rule's kName, so the key table treats map.layers[].rule like any
+/// other enum key.
+template <>
+struct EnumNames<RuleKind> : decltype(rule_registry_detail::names_of(Rules{})) {};
+
 /// The row of `kind`.
 inline const RuleInfo& rule_info(RuleKind kind) {
   const auto i = static_cast<std::size_t>(kind);
