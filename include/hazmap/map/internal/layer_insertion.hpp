@@ -129,10 +129,9 @@ std::size_t merge_runs(LayerCells<Rule>& cells, const unsigned char* covered, Ch
 }
 
 /// Pass 2 for rules whose weight cap acts once per frame (MergePolicy::per_frame: CCM,
-/// OMG): a frame's sums per
-/// touched cell. A sparse set: frame_index_[slot] is valid only if touched_ points back to
-/// slot; the accumulators are packed in touch order, so they stay in cache. Sized once,
-/// one entry per cell (none for rules that merge per run).
+/// OMG): a frame's sums per touched cell. A sparse set: frame_index_[slot] is valid only
+/// if touched_ points back to slot; the accumulators are packed in touch order, so they
+/// stay in cache. Sized once, one entry per cell (none for rules that merge per run).
 template <class Rule>
 class FrameAccumulators {
  public:
