@@ -64,18 +64,20 @@ if command -v ccache >/dev/null && [[ -z ${CMAKE_CXX_COMPILER_LAUNCHER:-} ]]; th
   CMAKE_ARGS+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
 
-# Scratch under build/ (git ignores it). REV's tree and its build folder are laid out
-# as this tree's (build/ inside the sources), so compile lines match and ccache hits
-# where sources are unchanged.
+# Scratch under build/ (git ignores it): REV's tree at a fixed path per commit, with its
+# build folder inside it as in this tree, so that a rebuild of REV (the driver changed)
+# finds its objects in ccache (the same paths, the same compile lines).
 mkdir -p "$ROOT/build"
-SCRATCH=$(mktemp -d "$ROOT/build/compare.XXXXXX")
+SCRATCH=$ROOT/build/compare-${SHA:0:12}
 cleanup() {
   if [[ -d $SCRATCH/src ]]; then
     git -C "$ROOT" worktree remove --force "$SCRATCH/src" 2>/dev/null || true
-    git -C "$ROOT" worktree prune 2>/dev/null || true
   fi
+  git -C "$ROOT" worktree prune 2>/dev/null || true
   [[ $KEEP == 1 ]] || rm -rf "$SCRATCH"
 }
+cleanup; rm -rf "$SCRATCH"  # what an interrupted run left
+mkdir -p "$SCRATCH"
 trap cleanup EXIT
 
 build() {  # build folder, log name, targets...
@@ -169,23 +171,28 @@ done
 
 echo "## Insertion, ${SHA:0:7} (then) vs working tree at $(git -C "$ROOT" rev-parse --short HEAD)$(
   git -C "$ROOT" diff --quiet HEAD -- src include || echo '+changes') (now)"
-echo "median ns per point and layer over $((ROUNDS * PASSES)) timed passes each, interleaved; load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "median ns per point and layer (thread CPU time; wall clock in the last columns) over"
+echo "$((ROUNDS * PASSES)) timed passes per side, interleaved; load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
 python3 - "$RAW" <<'EOF'
 import statistics, sys
 from collections import defaultdict
-runs = defaultdict(list)
+cpu, wall, points = defaultdict(list), defaultdict(list), {}
 order = []
 for line in open(sys.argv[1]):
-    clouds, side, case, ns, _ = line.split()
+    clouds, side, case, c, w, n = line.split()
     if (clouds, case) not in order:
         order.append((clouds, case))
-    runs[clouds, case, side].append(float(ns))
-print("| clouds | case | then | now | now / then |")
-print("|---|---|---:|---:|---:|")
+    cpu[clouds, case, side].append(float(c))
+    wall[clouds, case, side].append(float(w))
+    points[clouds] = int(float(n))
+print("| clouds | case | then | now | now / then | wall: then | now | now / then |")
+print("|---|---|---:|---:|---:|---:|---:|---:|")
 for clouds, case in order:
-    then = statistics.median(runs[clouds, case, "then"])
-    now = statistics.median(runs[clouds, case, "now"])
-    flag = "  <-- > 10 % slower" if now > 1.10 * then else ""
-    print(f"| {clouds} | {case} | {then:.2f} | {now:.2f} | {now / then:.2f} |{flag}")
+    t, n = (statistics.median(cpu[clouds, case, s]) for s in ("then", "now"))
+    wt, wn = (statistics.median(wall[clouds, case, s]) for s in ("then", "now"))
+    flag = " **> 10 % slower**" if n > 1.10 * t else ""
+    print(f"| {clouds} | {case} | {t:.2f} | {n:.2f} | {n / t:.2f}{flag} | {wt:.2f} | {wn:.2f} | {wn / wt:.2f} |")
+print()
+print("points per frame: " + ", ".join(f"{c} {n}" for c, n in points.items()))
 EOF
