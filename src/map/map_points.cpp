@@ -90,6 +90,7 @@ void MapPoints::assign(const PointCloud& cloud, CcmWeighting weighting) {
   size_ = static_cast<int>(cloud.size());
   const std::size_t padded = cloud.size() + PointChunk::kPad;
   for (auto* v : {&x_, &y_, &z_, &inv_var_z_, &ccm_weight_, &lateral_var_, &var_z_}) v->resize(padded, 0.0f);
+  unit_weights_ = std::min(unit_weights_, size_);  // a smaller frame shrank the arrays
   const Columns out{x_.data(), y_.data(), z_.data(), inv_var_z_.data(), var_z_.data(), lateral_var_.data()};
   for (int i = set_columns4(cloud.data(), size_, out); i < size_; ++i)
     out.set(i, cloud[static_cast<std::size_t>(i)]);
