@@ -3,6 +3,8 @@
 #include "hazmap/map/layer_stack.hpp"
 
 #include <chrono>
+#include <cstring>
+#include <iterator>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -192,6 +194,103 @@ TEST(LayerStack, EachLayerOfAMixedStackEqualsTheSameLayerAlone) {
   for (size_t i = 0; i < mixed.size(); ++i)
     EXPECT_GT(expect_identical_cells(mixed.layer(i), alone[i]->layer(0), "layer " + std::to_string(i)), 30)
         << "layer " << i;
+}
+
+/// Every published grid of two layers, bit for bit (NaN where the other has NaN, and the
+/// same payload), with the geometry.
+void expect_same_grids(const LayerGrids& a, const LayerGrids& b, const std::string& what) {
+  const DenseGrid LayerGrids::*grids[] = {
+      &LayerGrids::height,     &LayerGrids::variance,   &LayerGrids::count,
+      &LayerGrids::slope_x,    &LayerGrids::slope_y,    &LayerGrids::roughness,
+      &LayerGrids::coverage,   &LayerGrids::evaluable,  &LayerGrids::noise_variance,
+      &LayerGrids::lateral_xx, &LayerGrids::lateral_yy, &LayerGrids::lateral_xy,
+      &LayerGrids::lateral_xz, &LayerGrids::lateral_yz};
+  for (std::size_t k = 0; k < std::size(grids); ++k) {
+    const DenseGrid &ga = a.*grids[k], &gb = b.*grids[k];
+    ASSERT_EQ(ga.rows, gb.rows) << what << ", grid " << k;
+    ASSERT_EQ(ga.cols, gb.cols) << what << ", grid " << k;
+    EXPECT_EQ(ga.center_x_m, gb.center_x_m) << what << ", grid " << k;
+    EXPECT_EQ(ga.center_y_m, gb.center_y_m) << what << ", grid " << k;
+    ASSERT_EQ(ga.values.size(), gb.values.size()) << what << ", grid " << k;
+    EXPECT_EQ(0, std::memcmp(ga.values.data(), gb.values.data(), ga.values.size() * sizeof(float)))
+        << what << ", grid " << k;
+  }
+}
+
+/// Scan lines across +-0.35 m in x, 3 mm apart along a line (runs of consecutive points
+/// per cell, as the pipeline makes them), lines 1 cm apart, over a sloped, bumpy surface
+/// with noise; lateral spread and height variance vary along the line, so that the SPEC 4
+/// gates drop some points.
+PointCloud scan_lines(std::mt19937_64& rng, double x0, double y0) {
+  std::normal_distribution<double> noise(0.0, 1.0);
+  PointCloud cloud;
+  for (int row = 0; row < 60; ++row)
+    for (int k = 0; k < 234; ++k) {
+      const double x = x0 - 0.35 + 0.003 * k, y = y0 - 0.3 + 0.01 * row;
+      const double sz = 0.002 + 0.004 * (k % 7) / 6.0, sxy = 0.001 + 0.01 * ((k + row) % 11) / 10.0;
+      const double z = 0.08 * x + 0.03 * std::sin(17 * x) * std::cos(11 * y) + sz * noise(rng);
+      cloud.push_back(point(x, y, z, sz, sxy));
+    }
+  return cloud;
+}
+
+// A layer inside a stack publishes exactly what the same layer publishes alone: every
+// rule in each position of an all_layers stack, every grid bit for bit, with the gates
+// on, the window rolling, and the changed cells and gate counts compared too. (The stack
+// shares each chunk among its layers and grows the bounding box in its chunk loop; none
+// of that may reach a layer's cells.)
+TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
+  RulesConfig rules;  // shipped defaults (floors, caps, time inflation), plus the gates:
+  rules.kalman.gate_sigma = 3.0;
+  rules.omg.gate_sigma = 3.0;
+  rules.ccm.max_std_ratio = 1.0;
+  for (const RuleKind rule : {RuleKind::bananas, RuleKind::kalman, RuleKind::omg, RuleKind::ccm}) {
+    MapConfig map = stack(RuleKind::kalman, "all_layers", {{0.02, 48}, {0.04, 24}, {0.08, 16}, {0.16, 8}});
+    map.layers[0].rule = rule;
+    map.layers[2].rule = RuleKind::ccm;
+    map.layers[3].rule = RuleKind::omg;
+    map.layers[1].max_std_ratio = 0.5;  // a layer's own lateral gate
+    LayerStack mixed(map, rules);
+    std::vector<std::unique_ptr<LayerStack>> alone;
+    for (const LayerConfig& layer : map.layers) {
+      MapConfig one = map;
+      one.layers = {layer};
+      alone.push_back(std::make_unique<LayerStack>(one, rules));
+    }
+    std::mt19937_64 rng(23);
+    MapPoints points;
+    for (int frame = 0; frame < 5; ++frame) {
+      const double robot_x = 0.05 * frame, robot_y = -0.03 * frame;  // rolls every layer
+      points.assign(scan_lines(rng, robot_x + 0.1, robot_y), CcmWeighting::constant);
+      mixed.begin_frame(robot_x, robot_y);
+      std::size_t updates = 0;
+      for (auto& s : alone) {
+        s->begin_frame(robot_x, robot_y);
+        updates += s->insert(points);
+      }
+      EXPECT_EQ(mixed.insert(points), updates);
+      for (std::size_t i = 0; i < mixed.size(); ++i) {
+        const std::string what = std::string(rule_name(rule)) + " stack, layer " +
+                                 std::to_string(i) + ", frame " + std::to_string(frame);
+        LayerGrids in_stack, by_itself;
+        mixed.export_layer(i, in_stack);
+        alone[i]->export_layer(0, by_itself);
+        expect_same_grids(in_stack, by_itself, what);
+        const CellRange a = mixed.changed_cells(i), b = alone[i]->changed_cells(0);
+        EXPECT_TRUE(a.x0 == b.x0 && a.x1 == b.x1 && a.y0 == b.y0 && a.y1 == b.y1) << what;
+        EXPECT_FALSE(a.empty()) << what;
+        EXPECT_EQ(mixed.gate_counts(i).std_gate, alone[i]->gate_counts(0).std_gate) << what;
+        EXPECT_EQ(mixed.gate_counts(i).consistency_gate,
+                  alone[i]->gate_counts(0).consistency_gate) << what;
+        if (frame == 4) {
+          EXPECT_GT(expect_identical_cells(mixed.layer(i), alone[i]->layer(0), what), 20) << what;
+          // The gates bit somewhere: otherwise this would not test them.
+          if (i == 1) EXPECT_GT(mixed.gate_counts(i).std_gate, 0u) << what;
+        }
+        if (::testing::Test::HasFailure()) return;
+      }
+    }
+  }
 }
 
 TEST(LayerStack, MixedFamiliesNeedAllLayers) {

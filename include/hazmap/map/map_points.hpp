@@ -53,9 +53,14 @@ class MapPoints {
   }
 
  private:
+  /// Writes 1 to ccm_weight_[0, size_) where it does not hold 1 already.
+  void fill_unit_weights();
+
   std::vector<float> x_, y_, z_, inv_var_z_, ccm_weight_, lateral_var_, var_z_;  ///< size_ + kPad
   int size_ = 0;
   bool unit_ccm_weight_ = true;
+  int unit_weights_ = 0;  ///< ccm_weight_[0, unit_weights_) hold 1
+
 };
 
 }  // namespace hazmap
