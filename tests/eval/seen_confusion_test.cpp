@@ -143,8 +143,9 @@ TEST(SeenConfusion, CountsEqualAHandCountOverMapCells) {
       EXPECT_EQ(s.reason_sole[t][b], want.reason_sole[t][b]) << t << " bit " << b;
     }
   }
-  // And by hand: 60 seen pixels, minus the 1 cm obstacle: 57 free, 2 obstacles, 1 tall.
-  EXPECT_EQ(s.total(kTruthFree), 57u);
+  // And by hand: 60 seen pixels (columns 0-5; the 1 cm obstacle and the NaN lie beyond):
+  // 58 free, 2 obstacles, 1 tall.
+  EXPECT_EQ(s.total(kTruthFree), 58u);
   EXPECT_EQ(s.total(kTruthHazard), 2u);
   EXPECT_EQ(s.total(kTruthTall), 1u);
   // GT (1, 1) and (1, 2): map cell (0, 0) unknown and (0, 1) hazard ((0 + 2) % 3 = 2).
@@ -153,8 +154,9 @@ TEST(SeenConfusion, CountsEqualAHandCountOverMapCells) {
   EXPECT_EQ(s.count[kTruthTall][2], 1u);
   // Row 0 of the map: ring incomplete alone (sole); rows 1-4: never sole.
   EXPECT_EQ(s.reason_sole[kTruthFree][4], s.reason_any[kTruthFree][4] - s.reason_any[kTruthFree][7]);
-  EXPECT_DOUBLE_EQ(s.area_m2(kTruthFree), 57 * 0.01);
-  // Frame 1 sees everything: 100 pixels minus the NaN one and the 1 cm obstacle.
+  EXPECT_DOUBLE_EQ(s.area_m2(kTruthFree), 58 * (0.1 * 0.1));
+  // Frame 1 sees everything: 100 pixels minus the NaN one, the 1 cm obstacle and the two
+  // obstacles.
   const SeenSums all = score_seen(map, nullptr, gt, seen, 1, Pose3d::Identity(), 0.03);
   EXPECT_EQ(all.total(kTruthFree), 96u);
   EXPECT_EQ(all.reason_unrecorded[kTruthFree], all.count[kTruthFree][0]);

@@ -103,11 +103,16 @@ TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
   EXPECT_EQ(bits_at(e.hazard, 0.305, 0.105), unsigned(HazardClass::unknown));
   // Inside the hole: no height.
   EXPECT_TRUE(bits_at(e.reasons, 0.305 + R, 0.105) & kReasonNoHeight);
-  // At the hole's edge the kernel is partly empty: kernel incomplete (and no other bit
-  // of the kernel's own tests).
-  const unsigned edge = bits_at(e.reasons, 0.305 + R - 0.028, 0.105);
+  // Ground seen in one 1 cm column of three: every observed cell's kernel is a third
+  // full, below min_kernel_fill (0.5): kernel incomplete, and no margin of the kernel's.
+  const LayerGrids striped = map_flat(config, 0.003, 0.0005, [](double x, double) {
+    return static_cast<long>(std::floor(x / 0.01 + 1000)) % 3 != 0;
+  });
+  const Explained st = explain(config, striped);
+  const unsigned edge = bits_at(st.reasons, -0.005, 0.105);  // an observed column
   EXPECT_TRUE(edge & kReasonKernelIncomplete) << edge;
   EXPECT_FALSE(edge & kReasonRoughnessMargin) << edge;
+  EXPECT_EQ(bits_at(st.hazard, -0.005, 0.105), unsigned(HazardClass::unknown));
   // Far from the hole: proven, no bits.
   EXPECT_EQ(bits_at(e.hazard, -0.3, -0.3), unsigned(HazardClass::traversable));
   EXPECT_EQ(bits_at(e.reasons, -0.3, -0.3), 0u);
