@@ -6,7 +6,8 @@
 #   tools/eval_hazards.sh config/cadre_flight.yaml config/thesis_ccm.yaml out/eval_hazards
 #   tools/eval_hazards.sh --jobs 2 --frames 15 config/default.yaml out/eh
 #
-# Scenarios (seeds 901.. that no test uses), 0.4 image scale, 4 cm per frame:
+# Scenarios (seeds 901.. that no test uses; --seed-base moves them), 0.4 image scale,
+# 4 cm per frame, with depth images (simulate --depth) for the seen-cell tables:
 #   ramp15, ramp25   ramp of 15 / 25 deg (a 25 deg ramp exceeds max_slope 20 deg)
 #   craters          fractal ground with craters
 #   sine             sine wave (steepest slope 17.4 deg)
@@ -47,6 +48,7 @@ Options:
   --near R         radius of the near metrics in metres (default 1.5)
   --jobs N         parallel jobs (default 1: the machine is shared)
   --only LIST      comma-separated scenarios (default: all eight)
+  --seed-base N    seeds N, N+1, ... for the scenarios in the order above (default 901)
   --hazmap BIN     the hazmap executable (default $HAZMAP or build/hazmap)
   --tables-only    print the tables of what OUT already holds
 EOF
@@ -54,15 +56,17 @@ EOF
 
 # ---------------------------------------------------------------------------------------
 # Scenario table: name, seed, simulate arguments.
+# $2: the first seed (ramp15's; the others follow in this order).
 scenario_args() {
+  local b="${2:-901}"
   case "$1" in
-    ramp15) echo "--scenario ramp --ramp-deg 15 --seed 901" ;;
-    ramp25) echo "--scenario ramp --ramp-deg 25 --seed 902" ;;
-    craters) echo "--scenario craters --seed 903" ;;
-    sine) echo "--scenario sine --seed 904" ;;
+    ramp15) echo "--scenario ramp --ramp-deg 15 --seed $b" ;;
+    ramp25) echo "--scenario ramp --ramp-deg 25 --seed $((b + 1))" ;;
+    craters) echo "--scenario craters --seed $((b + 2))" ;;
+    sine) echo "--scenario sine --seed $((b + 3))" ;;
     rocks3 | rocks6 | rocks12 | rocks24)
       local r_cm="${1#rocks}" seed
-      case "$r_cm" in 3) seed=905 ;; 6) seed=906 ;; 12) seed=907 ;; 24) seed=908 ;; esac
+      case "$r_cm" in 3) seed=$((b + 4)) ;; 6) seed=$((b + 5)) ;; 12) seed=$((b + 6)) ;; 24) seed=$((b + 7)) ;; esac
       # Layout of tools/sweep.sh: rocks beside the path within reach of the finest layers.
       awk -v rc="$r_cm" -v seed="$seed" 'BEGIN {
         r = rc / 100; x0 = 0.3 + r; x1 = x0 + (6 * r > 0.8 ? 6 * r : 0.8); if (x1 > 3.2) x1 = 3.2;
@@ -79,9 +83,9 @@ all_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
 # Jobs (run through xargs, possibly in parallel). Each writes OUT/logs/<name>.log and
 # prints one status line.
 if [ "${1:-}" = "--sim-job" ]; then
-  hazmap="$2" out="$3" common="$4" scenario="$5"
+  hazmap="$2" out="$3" common="$4" scenario="$5" seed_base="$6"
   dir="$out/seq/$scenario"
-  args="$(scenario_args "$scenario") $common"
+  args="$(scenario_args "$scenario" "$seed_base") $common"
   if [ -f "$dir/.done" ] && [ "$(cat "$dir/.done")" = "$args" ]; then
     echo "eval_hazards: sequence $scenario cached$(progress_note)"
     exit 0
@@ -90,7 +94,7 @@ if [ "${1:-}" = "--sim-job" ]; then
   mkdir -p "$dir"
   read -r -a sim <<<"$args"
   start=$(date +%s)
-  if "$hazmap" simulate --out "$dir" --ground-truth --quiet "${sim[@]}" >"$out/logs/sim_$scenario.log" 2>&1; then
+  if "$hazmap" simulate --out "$dir" --ground-truth --depth --quiet "${sim[@]}" >"$out/logs/sim_$scenario.log" 2>&1; then
     echo "$args" >"$dir/.done"
     echo "eval_hazards: sequence $scenario rendered in $(($(date +%s) - start)) s$(progress_note)"
   else
@@ -105,7 +109,9 @@ if [ "${1:-}" = "--map-job" ]; then
   log="$out/logs/${name}_$scenario.log"
   rm -rf "$dir"
   start=$(date +%s)
-  if "$hazmap" run --config "$config" --sequence "$out/seq/$scenario" --out "$dir" --quiet >"$log" 2>&1 &&
+  # The reasons for unknown cells (output.unknown_reasons) only add files.
+  if "$hazmap" run --config "$config" --sequence "$out/seq/$scenario" --out "$dir" --quiet \
+    --set output.unknown_reasons=true >"$log" 2>&1 &&
     "$hazmap" evaluate --run "$dir" --sequence "$out/seq/$scenario" --near "$near" --quiet >>"$log" 2>&1; then
     echo "eval_hazards: $name on $scenario done in $(($(date +%s) - start)) s$(progress_note)"
   else
@@ -117,7 +123,7 @@ if [ "${1:-}" = "--map-job" ]; then
 fi
 
 # ---------------------------------------------------------------------------------------
-frames=30 scale=0.4 near=1.5 jobs=1 only="" hazmap="${HAZMAP:-$repo/build/hazmap}" tables_only=0
+frames=30 scale=0.4 near=1.5 jobs=1 only="" seed_base=901 hazmap="${HAZMAP:-$repo/build/hazmap}" tables_only=0
 positional=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -126,6 +132,7 @@ while [ $# -gt 0 ]; do
     --near) near="$2"; shift ;;
     --jobs) jobs="$2"; shift ;;
     --only) only="$2"; shift ;;
+    --seed-base) seed_base="$2"; shift ;;
     --hazmap) hazmap="$2"; shift ;;
     --tables-only) tables_only=1 ;;
     -h | --help) usage; exit 0 ;;
@@ -142,7 +149,7 @@ out="${positional[-1]}"
 configs=("${positional[@]:0:${#positional[@]}-1}")
 scenarios="${only//,/ }"
 : "${scenarios:=$all_scenarios}"
-for s in $scenarios; do scenario_args "$s" >/dev/null || exit 2; done
+for s in $scenarios; do scenario_args "$s" "$seed_base" >/dev/null || exit 2; done
 [ -x "$hazmap" ] || { echo "eval_hazards: no hazmap executable at $hazmap (build it, or pass --hazmap)" >&2; exit 1; }
 hazmap="$(cd "$(dirname "$hazmap")" && pwd)/$(basename "$hazmap")"
 mkdir -p "$out/logs"
@@ -167,7 +174,7 @@ if [ "$tables_only" = 0 ]; then
   # 1. Sequences (cached).
   progress_start "$out/.progress/seq" "$(echo $scenarios | wc -w)"
   for s in $scenarios; do printf '%s\0' "$s"; done |
-    xargs -0 -n 1 -P "$jobs" "$self" --sim-job "$hazmap" "$out" "$common" || status=1
+    xargs -0 -I{} -P "$jobs" "$self" --sim-job "$hazmap" "$out" "$common" {} "$seed_base" || status=1
   # 2. Maps and evaluations: every config on every scenario that has a sequence.
   n_maps=0
   for s in $scenarios; do [ -f "$out/seq/$s/.done" ] && n_maps=$((n_maps + ${#configs[@]})); done
@@ -208,6 +215,44 @@ for n in "${names[@]}"; do
             p(v("near_hazard_recall"), 100, "%.1f"), p(v("hazard_unknown"), 100, "%.1f"),
             p(v("variance_violation_all"), 100, "%.2f"), p(v("height_rms_all_m"), 100, "%.2f"),
             p(v("max_below_m"), 100, "%.1f")
+        }' "$csv"
+    done
+  } | tee -a "$tables"
+done
+# 4. Seen cells (issue 34): over ground the left camera saw within --near of the rover.
+for n in "${names[@]}"; do
+  {
+    echo
+    echo "== $n: seen cells within ${near} m (pooled over the frames) =="
+    echo "   F = free ground, H = obstacle >= h_min, tall = >= 2 h_min; ->T/U/H traversable/unknown/hazard;"
+    echo "   reasons: of the free cells left unknown, the share with each reason (any/sole), largest first"
+    printf '%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s  %s\n' scenario map F_m2 F-T% F-U% F-H% H-H% H-U% H-T% tall-H% reasons
+    for s in $scenarios; do
+      csv="$out/$n/$s/eval/summary.csv"
+      [ -f "$csv" ] || continue
+      awk -F, -v scen="$s" '
+        NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+        function v(k) { return (k in col) ? $(col[k]) : "nan" }
+        function p(x, scale, f) { return (x == "nan" || x == "") ? "-" : sprintf(f, x * scale) }
+        {
+          if (!("near_seen_free_m2" in col)) { printf "%-8s (no seen cells: no depth images)\n", scen; exit }
+          reasons = ""; used = ""
+          for (k = 0; k < 4; ++k) {
+            best = ""; bv = 0
+            for (c in col) if (c ~ /^near_seen_unknown_free_/ && c !~ /_sole$/ && index(used, "|" c "|") == 0) {
+              x = $(col[c]); if (x != "nan" && x + 0 > bv) { bv = x + 0; best = c }
+            }
+            if (best == "" || bv < 0.005) break
+            used = used "|" best "|"
+            name = best; sub(/^near_seen_unknown_free_/, "", name)
+            reasons = reasons sprintf(" %s %.0f/%.0f", name, 100 * bv, 100 * v(best "_sole"))
+          }
+          printf "%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s %s\n", scen, v("layer"),
+            p(v("near_seen_free_m2"), 1, "%.3f"), p(v("near_seen_free_traversable"), 100, "%.1f"),
+            p(v("near_seen_free_unknown"), 100, "%.1f"), p(v("near_seen_free_hazard"), 100, "%.2f"),
+            p(v("near_seen_hazard_hazard"), 100, "%.1f"), p(v("near_seen_hazard_unknown"), 100, "%.1f"),
+            p(v("near_seen_hazard_traversable"), 100, "%.2f"), p(v("near_seen_tall_hazard"), 100, "%.1f"),
+            reasons
         }' "$csv"
     done
   } | tee -a "$tables"

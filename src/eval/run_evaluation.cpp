@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -15,6 +17,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "io/json_writer.hpp"
+#include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/eval/plot.hpp"
@@ -358,6 +361,62 @@ LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
   return maps;
 }
 
+// Seen-cell columns (seen_confusion.hpp): seen_<field> and, with --near, near_seen_<field>.
+std::string seen_header(bool with_near) {
+  std::string h;
+  for (const char* prefix : {"seen_", "near_seen_"}) {
+    if (!with_near && std::string(prefix) == "near_seen_") continue;
+    for (const auto& [name, v] : seen_fields(SeenSums{})) h += std::string(",") + prefix + name;
+  }
+  return h;
+}
+std::string seen_row(const SeenSums& all, const SeenSums* near) {
+  std::string o;
+  for (const auto& [name, v] : seen_fields(all)) o += "," + fmt(v);
+  if (near)
+    for (const auto& [name, v] : seen_fields(*near)) o += "," + fmt(v);
+  return o;
+}
+
+/// The seen map of the run's frames (seen_confusion.hpp) from SEQ/depth/<name>.tiff, with
+/// the left camera of SEQ/calibration.yaml at the true poses; `frame_index[f]`: the index
+/// of the last depth frame at or before written frame f (-1: none).
+SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const Config& config,
+                      const std::map<std::string, Pose3d>& true_poses, const fs::path& pose_file,
+                      const std::vector<std::string>& frames, std::vector<int>* frame_index) {
+  const fs::path depth_dir = sequence_dir / "depth";
+  std::vector<std::string> stems;
+  for (const auto& entry : fs::directory_iterator(depth_dir))
+    if (entry.is_regular_file() && entry.path().extension() == ".tiff" &&
+        entry.path().stem().string() >= frames.front())  // from the run's first frame
+      stems.push_back(entry.path().stem().string());
+  std::sort(stems.begin(), stems.end());
+  const StereoCalibration calib = load_stereo_calibration(sequence_dir / "calibration.yaml");
+  DepthCamera camera;
+  camera.fx = calib.left.K(0, 0);
+  camera.fy = calib.left.K(1, 1);
+  camera.cx = calib.left.K(0, 2);
+  camera.cy = calib.left.K(1, 2);
+  camera.distortion = calib.left.D;
+  SeenMap seen(gt.height);
+  for (size_t k = 0; k < stems.size(); ++k) {
+    const fs::path file = depth_dir / (stems[k] + ".tiff");
+    const auto pose = true_poses.find(stems[k]);
+    if (pose == true_poses.end())
+      throw Error(pose_file.string() + ": no pose for depth image " + file.string());
+    const cv::Mat depth = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    if (depth.empty() || depth.type() != CV_32FC1)
+      throw Error(file.string() + ": not a float32 one-channel depth image (simulate --depth)");
+    seen.add_depth(depth, camera, pose->second * calib.T_B_C, config.stereo.z_max_m,
+                   static_cast<int>(k));
+  }
+  frame_index->clear();
+  for (const std::string& f : frames)
+    frame_index->push_back(
+        static_cast<int>(std::upper_bound(stems.begin(), stems.end(), f) - stems.begin()) - 1);
+  return seen;
+}
+
 void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
                    const std::vector<std::pair<std::string, fs::path>>& error_pngs,
                    const Config& config) {
@@ -365,23 +424,28 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   // metrics.csv
   const bool near = ev.near_radius_m >= 0.0;
   std::ostringstream csv;
-  csv << csv_header(true, near) << '\n';
+  const bool seen = ev.seen_enabled;
+  csv << csv_header(true, near) << (seen ? seen_header(near) : "") << '\n';
   for (size_t f = 0; f < ev.frames.size(); ++f)
     for (size_t l = 0; l < ev.layers.size(); ++l) {
       const LayerMetrics nm = near ? derive_metrics(ev.near_sums[f][l]) : LayerMetrics{};
       csv << ev.frames[f] << ',' << fmt(frame_number(ev.frames[f], f)) << ','
           << csv_layer(ev.layers[l]) << ','
-          << csv_metrics(derive_metrics(ev.sums[f][l]), near ? &nm : nullptr) << '\n';
+          << csv_metrics(derive_metrics(ev.sums[f][l]), near ? &nm : nullptr)
+          << (seen ? seen_row(ev.seen_sums[f][l], near ? &ev.near_seen_sums[f][l] : nullptr) : "")
+          << '\n';
     }
   write_file_atomically(out / "metrics.csv", csv.str());
 
   // summary.csv: pooled per layer; frame columns hold the count of frames.
   std::ostringstream sum;
-  sum << "frames," << csv_header(false, near) << '\n';
+  sum << "frames," << csv_header(false, near) << (seen ? seen_header(near) : "") << '\n';
   for (size_t l = 0; l < ev.layers.size(); ++l) {
     const LayerMetrics nm = near ? derive_metrics(ev.near_pooled[l]) : LayerMetrics{};
     sum << ev.frames.size() << ',' << csv_layer(ev.layers[l]) << ','
-        << csv_metrics(derive_metrics(ev.pooled[l]), near ? &nm : nullptr) << '\n';
+        << csv_metrics(derive_metrics(ev.pooled[l]), near ? &nm : nullptr)
+        << (seen ? seen_row(ev.seen_pooled[l], near ? &ev.near_seen_pooled[l] : nullptr) : "")
+        << '\n';
   }
   write_file_atomically(out / "summary.csv", sum.str());
 
@@ -429,6 +493,16 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
     if (near) {
       const std::vector<double> v = near_values(derive_metrics(ev.near_pooled[l]));
       for (size_t k = 0; k < v.size(); ++k) j.key(kNearFields[k]).value(v[k]);
+    }
+    if (seen) {
+      j.key("seen").begin_object();
+      for (const auto& [name, v] : seen_fields(ev.seen_pooled[l])) j.key(name).value(v);
+      j.end_object();
+      if (near) {
+        j.key("near_seen").begin_object();
+        for (const auto& [name, v] : seen_fields(ev.near_seen_pooled[l])) j.key(name).value(v);
+        j.end_object();
+      }
     }
     const LayerMetrics last = derive_metrics(ev.sums.back()[l]);
     j.key("last_frame").begin_object();
@@ -561,6 +635,52 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   }
   summary.tables.push_back(table);
   page.sections.push_back(summary);
+  if (seen) {
+    HtmlSection section;
+    section.heading = "Seen cells: does the map see? (pooled over frames)";
+    section.text =
+        "Over the ground-truth pixels the left camera has seen so far (a depth pixel within "
+        "stereo.z_max fell in them, in this or an earlier frame)" +
+        std::string(near ? ", within " + fmt(ev.near_radius_m, "%g") + " m of the rover" : "") +
+        ", inside each map's window: what the map calls them. Free = no obstacle; obstacle = "
+        "at least h_min high; tall = at least 2 h_min. The footprint map is scored against "
+        "obstacles dilated by the footprint radius, over pixels whose whole footprint disc "
+        "was seen. Reasons: of the free pixels left unknown, the share for which each reason "
+        "held (any) and was the only one (sole); \"unrecorded\": the run wrote no "
+        "L<i>_unknown_reason grids (output.unknown_reasons).";
+    const std::vector<SeenSums>& pooled = near ? ev.near_seen_pooled : ev.seen_pooled;
+    HtmlTable t;
+    t.id = "seen";
+    t.header = {"layer", "free seen [m2]", "free -> traversable [%]", "free -> unknown [%]",
+                "free -> hazard [%]", "obstacle seen [m2]", "obstacle -> hazard [%]",
+                "obstacle -> unknown [%]", "obstacle -> traversable [%]",
+                "tall obstacle -> hazard [%]"};
+    HtmlTable r;
+    r.id = "unknown_reasons";
+    r.header = {"layer"};
+    for (const char* name : kUnknownReasonNames) r.header.push_back(std::string(name) + " any / sole [%]");
+    r.header.push_back("unrecorded [%]");
+    for (size_t l = 0; l < ev.layers.size(); ++l) {
+      const SeenSums& p = pooled[l];
+      t.rows.push_back({ev.layers[l].name, fmt(p.area_m2(kTruthFree), "%.3f"),
+                        pct(p.fraction(kTruthFree, 1)), pct(p.fraction(kTruthFree, 0)),
+                        pct(p.fraction(kTruthFree, 2)), fmt(p.area_m2(kTruthHazard), "%.4f"),
+                        pct(p.fraction(kTruthHazard, 2)), pct(p.fraction(kTruthHazard, 0)),
+                        pct(p.fraction(kTruthHazard, 1)), pct(p.fraction(kTruthTall, 2))});
+      const std::size_t unknown = p.count[kTruthFree][0];
+      const auto share = [&](std::size_t n) {
+        return unknown == 0 ? std::string("-") : pct(static_cast<double>(n) / unknown);
+      };
+      r.rows.push_back({ev.layers[l].name});
+      for (int b = 0; b < kUnknownReasonCount; ++b)
+        r.rows.back().push_back(share(p.reason_any[kTruthFree][b]) + " / " +
+                                share(p.reason_sole[kTruthFree][b]));
+      r.rows.back().push_back(share(p.reason_unrecorded[kTruthFree]));
+    }
+    section.tables.push_back(t);
+    section.tables.push_back(r);
+    page.sections.push_back(section);
+  }
   HtmlSection over_time;
   over_time.heading = "Metrics over time";
   over_time.figures.push_back({"metrics_over_time.png", "each metric per written frame and layer"});
@@ -627,6 +747,21 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   ev.used_true_poses = fs::exists(options.sequence_dir / "poses_true.txt");
   if (ev.used_true_poses) truth = read_pose_map(options.sequence_dir / "poses_true.txt");
 
+  // Seen cells (issue 34): from the sequence's depth images, when it has them.
+  std::vector<int> seen_index;
+  std::optional<SeenMap> seen, seen_footprint;
+  if (fs::is_directory(options.sequence_dir / "depth")) {
+    const fs::path pose_file =
+        options.sequence_dir / (ev.used_true_poses ? "poses_true.txt" : "poses.txt");
+    seen.emplace(read_seen_map(options.sequence_dir, gt, config, ev.used_true_poses ? truth : used,
+                               pose_file, ev.frames, &seen_index));
+    if (with_footprint)
+      seen_footprint.emplace(seen->whole_disc(resolve_hazard_params(config).footprint_radius_m));
+    ev.seen_enabled = true;
+    ev.seen_pooled.assign(ev.layers.size(), SeenSums{});
+    if (options.near_enabled()) ev.near_seen_pooled.assign(ev.layers.size(), SeenSums{});
+  }
+
   std::set<std::string> error_frames(options.error_map_frames.begin(),
                                      options.error_map_frames.end());
   if (error_frames.empty()) error_frames.insert(ev.frames.back());
@@ -675,8 +810,12 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
     const bool maps_wanted = all_error_maps || error_frames.count(name) > 0;
     std::vector<cv::Mat> tiles;
     std::vector<MetricSums> row, near_row;
+    std::vector<SeenSums> seen_row, near_seen_row;
+    std::vector<LayerMaps> frame_layers;  // this frame's layers, for the fused map's reasons
+    std::vector<DenseGrid> frame_reasons;
     for (size_t l = 0; l < ev.layers.size(); ++l) {
-      const LayerMaps layer = read_layer(frames_dir / name, ev.layers[l]);
+      frame_layers.push_back(read_layer(frames_dir / name, ev.layers[l]));
+      const LayerMaps& layer = frame_layers.back();
       ErrorMaps maps;
       MetricSums near_sums;
       MetricSums s;
@@ -694,6 +833,44 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       if (options.near_enabled()) {
         ev.near_pooled[l] += near_sums;
         near_row.push_back(near_sums);
+      }
+      if (seen) {
+        const EvaluatedLayer& L = ev.layers[l];
+        DenseGrid reasons;
+        if (L.index >= 0) {
+          const fs::path file = frames_dir / name / (L.name + "_unknown_reason.jdem");
+          if (fs::exists(file)) reasons = read_dense_grid(file);
+        } else if (L.name == "fused") {
+          std::vector<ReasonLayer> inputs;
+          for (size_t k = 0; k < l; ++k)
+            if (ev.layers[k].index >= 0)
+              inputs.push_back({&frame_layers[k].hazard,
+                                frame_reasons[k].rows > 0 ? &frame_reasons[k] : nullptr,
+                                ev.layers[k].h_min_m});
+          const bool recorded = std::any_of(inputs.begin(), inputs.end(),
+                                            [](const ReasonLayer& r) { return r.reasons; });
+          if (recorded)
+            reasons = fused_unknown_reasons(inputs, L.h_min_m, layer.hazard);
+        }
+        const SeenMap& where = L.gt_dilation_m > 0.0 ? *seen_footprint : *seen;
+        SeenSums ss, ns;
+        try {
+          ss = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
+                          L.h_min_m);
+          if (options.near_enabled())
+            ns = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
+                            L.h_min_m, &near);
+        } catch (const Error& e) {
+          throw Error((frames_dir / name / (L.name + "_*.jdem")).string() + " (frame " + name +
+                      "): " + e.what());
+        }
+        ev.seen_pooled[l] += ss;
+        seen_row.push_back(ss);
+        if (options.near_enabled()) {
+          ev.near_seen_pooled[l] += ns;
+          near_seen_row.push_back(ns);
+        }
+        frame_reasons.push_back(std::move(reasons));
       }
       if (maps_wanted) {
         const std::string label = ev.layers[l].name + " " +
@@ -714,6 +891,10 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
     }
     ev.sums.push_back(std::move(row));
     if (options.near_enabled()) ev.near_sums.push_back(std::move(near_row));
+    if (seen) {
+      ev.seen_sums.push_back(std::move(seen_row));
+      if (options.near_enabled()) ev.near_seen_sums.push_back(std::move(near_seen_row));
+    }
     if (maps_wanted) {
       cv::Mat grid = tile_images(tiles, 2);
       const cv::Mat legend = outcome_legend();

@@ -56,6 +56,16 @@ void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDi
   classify(g, GridRect::full(h.rows, h.cols), hazard, diag);
 }
 
+void HazardClassifier::explain(const LayerGrids& g, DenseGrid& reasons) {
+  const DenseGrid& h = g.height;
+  reasons.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, 0.0f);
+  DenseGrid hazard;
+  HazardDiagnostics diag;
+  reasons_ = &reasons;
+  classify(g, hazard, diag);
+  reasons_ = nullptr;
+}
+
 // ---- Piecewise-constant layers (SPEC 8.1, 8.3) ----
 
 PiecewiseConstantClassifier::PiecewiseConstantClassifier(const LayerHazardParams& params)
@@ -124,9 +134,13 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
     for (int col = cells.col0; col < cells.col1; ++col) {
       hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
       const float range = diag.kernel_range.at(row, col);
-      if (std::isnan(range)) continue;  // kernel off the layer or empty: unknown
+      if (std::isnan(range)) {  // kernel off the layer or empty: unknown
+        record(row, col, kReasonNoHeight);
+        continue;
+      }
       const float z = h.at(row, col);
       Evidence ev(p.k_sigma);
+      ev.why(std::isnan(z) ? kReasonNoHeight : kReasonKernelIncomplete, kReasonRoughnessMargin);
       // The kernel is evidence even around an unobserved cell; proof needs the cell, the
       // kernel's fill and the whole kernel inside the layer.
       const bool complete = !std::isnan(z) && diag.kernel_fill.at(row, col) >= p.min_kernel_fill;
@@ -144,7 +158,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
                     p.kernel_face_tan);
       if (p.ring_tests && !ev.hazard()) {
         if (std::isnan(z)) {
-          ev.missing();
+          ev.missing(kReasonNoHeight);
         } else {
           RingSample s[WheelRing::kSamples];
           for (int k = 0; k < WheelRing::kSamples; ++k)
@@ -155,6 +169,7 @@ void PiecewiseConstantClassifier::classify(const LayerGrids& g, const GridRect& 
         }
       }
       hazard.at(row, col) = static_cast<float>(ev.result());
+      record(row, col, ev);
     }
 }
 
@@ -237,7 +252,10 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
     for (int col = cells.col0; col < cells.col1; ++col) {
       hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
       const float z = h.at(row, col);
-      if (std::isnan(z)) continue;
+      if (std::isnan(z)) {
+        record(row, col, kReasonNoHeight);
+        continue;
+      }
       if (double(g.count.at(row, col)) < p.min_points) {
         // Too few points for the plane's tests (SPEC 8.2), but their mean height, with the
         // variance that covers any tilt (SPEC 6.4), stands above the ring or not: the step
@@ -245,7 +263,7 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
         // rocks 17 % of the 4 cm rock cells in view had fewer than min_points).
         if (p.ring_tests) {
           Evidence ev(p.k_sigma);
-          ev.missing();
+          ev.missing(kReasonFewPoints);
           RingSample s[WheelRing::kSamples];
           ring_around(g, row, col, s);
           // The points' spread says little with so few: their sensor variance too, as a
@@ -253,6 +271,9 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
           ring_.step_test(z, g.variance.at(row, col) + noise_at(g.noise_variance, row, col), s,
                           p.h_min_m, tan_slope, ev);
           hazard.at(row, col) = static_cast<float>(ev.result());
+          record(row, col, ev);
+        } else {
+          record(row, col, kReasonFewPoints);
         }
         continue;
       }
@@ -263,6 +284,7 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
 
       // Sub-cell obstacle: the residual variance beyond the sensor's, whose estimate from
       // n points has a standard deviation of about rho sqrt(2 / (n - 3)).
+      ev.why(kReasonNotEvaluable, kReasonRoughnessMargin);
       ev.test(noise.rho - noise.sensor, noise.rho * std::sqrt(2.0 / std::max(n_eff - 3.0, 1.0)),
               p.rho_max_m2, evaluable);
 
@@ -300,6 +322,7 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
       }
       // Proof needs the whole plane: |g| has a standard deviation of at most sqrt(var_g).
       const bool plane_known = evaluable && both_axes;
+      ev.why(kReasonNotEvaluable, kReasonSlopeMargin);
       const double slope = plane_known ? std::sqrt(g2) : 0.0;
       if (plane_known) {
         ev.test(slope, std::sqrt(var_g), p.tan_face, true);
@@ -318,6 +341,7 @@ void PlaneClassifier::classify(const LayerGrids& g, const GridRect& region, Dens
         ring_.step_test(z, var_h, s, p.h_min_m, tan_slope, ev);
       }
       hazard.at(row, col) = static_cast<float>(ev.result());
+      record(row, col, ev);
     }
 }
 

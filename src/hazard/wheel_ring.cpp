@@ -15,6 +15,7 @@ WheelRing::WheelRing(double radius_m, double k_sigma) : radius_(radius_m), k_sig
 
 void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope,
                            Evidence& ev) const {
+  ev.why(kReasonRingIncomplete, kReasonSlopeMargin);
   const double norm = 4.0 * radius_ * radius_;
   double a = 0, b = 0, var_a = 0, var_b = 0;
   for (int k = 0; k < kSamples; ++k) {
@@ -35,6 +36,7 @@ void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope
 
 void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSamples],
                           double h_min_m, double tan_max_slope, Evidence& ev) const {
+  ev.why(kReasonRingIncomplete, kReasonStepMargin);
   int known = 0, exact = 0;
   double sum = 0, sum_var = 0;
   double lowest = std::numeric_limits<double>::infinity(), lowest_var = 0;

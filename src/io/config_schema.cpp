@@ -220,6 +220,8 @@ const std::vector<TopKey>& config_keys() {
       {"output.png_height_clip_pct", CONFIG_FIELD(output.png_height_clip_pct), "%",
        "height PNGs colour the known cells' [p, 100 - p] percentiles (the full range is printed under the bar); 0: full range", {in(0, 50, "[)")}},
       {"output.mosaic", CONFIG_FIELD(output.mosaic), "", "also write `OUT/mosaic/<frame>.png`: every layer side by side (same as `--mosaic`)"},
+      {"output.unknown_reasons", CONFIG_FIELD(output.unknown_reasons), "",
+       "also write `L<i>_unknown_reason` grids: why each unknown cell stayed unknown (bits, see docs/evaluation.md), from a diagnostic pass per written frame; `hazmap evaluate` counts them"},
   };
   return keys;
 }

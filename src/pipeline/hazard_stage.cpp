@@ -116,6 +116,11 @@ void HazardStage::run(const LayerStack& map) {
   run_planner(whole, fused_x0, fused_y0, cells);
 }
 
+void HazardStage::explain(std::size_t i, DenseGrid& reasons) const {
+  // The classifier's scratch buffers change, not the stage's maps.
+  classifiers_[i]->explain(views_[i].map, reasons);
+}
+
 bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fused_x0,
                             CellIndex fused_y0, int cells) {
   const Layer& layer = map.layer(i);

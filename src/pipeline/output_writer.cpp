@@ -60,6 +60,12 @@ void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_na
       l.slope_x.values.clear();  // keeps the capacity
       l.slope_y.values.clear();
     }
+    if (pipeline.config().output.unknown_reasons) {
+      pipeline.hazard_stage().explain(i, l.unknown_reason);
+    } else {
+      l.unknown_reason.rows = 0;
+      l.unknown_reason.values.clear();  // keeps the capacity
+    }
     l.resolution_m = map.layers[i].resolution_m;
     l.rule = map.layers[i].rule;
   }
@@ -159,6 +165,9 @@ void write_frame_outputs(const std::filesystem::path& dir, const FrameOutputs& f
         write_grid(dir, prefix + "slope_x", to_jdem(v.slope_x, "slope_x", "m/m", name), output);
         write_grid(dir, prefix + "slope_y", to_jdem(v.slope_y, "slope_y", "m/m", name), output);
       }
+      if (v.unknown_reason.rows > 0)
+        write_grid(dir, prefix + "unknown_reason",
+                   to_jdem(v.unknown_reason, "unknown_reason", "bits", name), output);
     }
   }
   if (output.png) {

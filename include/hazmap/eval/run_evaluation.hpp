@@ -36,6 +36,12 @@
 // Near metrics (--near R): the same sums restricted to GT pixels within R metres
 // (horizontally, in W) of the rover's true position at that frame (poses_true.txt when
 // present, else poses.txt), reported with a near_ prefix.
+//
+// Seen cells (issue 34; seen_confusion.hpp): when SEQ/depth/ holds the simulator's depth
+// images (`simulate --depth`), each map's confusion table over the GT pixels the left
+// camera has seen within stereo.z_max since the run's first frame, with seen_ (and
+// near_seen_) columns, and the reasons for unknown when the run wrote
+// L<i>_unknown_reason grids (output.unknown_reasons).
 
 #include <cstdint>
 #include <filesystem>
@@ -45,6 +51,7 @@
 
 #include "hazmap/core/types.hpp"
 #include "hazmap/eval/metrics.hpp"
+#include "hazmap/eval/seen_confusion.hpp"
 #include "hazmap/io/config.hpp"
 
 namespace hazmap::eval {
@@ -83,6 +90,11 @@ struct RunEvaluation {
   std::vector<std::vector<MetricSums>> near_sums;  ///< [frame][layer], with --near
   std::vector<MetricSums> near_pooled;             ///< [layer], with --near
   bool used_true_poses = false;                 ///< poses_true.txt was found
+  bool seen_enabled = false;                    ///< SEQ/depth/ was found
+  std::vector<std::vector<SeenSums>> seen_sums;       ///< [frame][layer]
+  std::vector<SeenSums> seen_pooled;                  ///< [layer]
+  std::vector<std::vector<SeenSums>> near_seen_sums;  ///< [frame][layer], with --near
+  std::vector<SeenSums> near_seen_pooled;             ///< [layer], with --near
   std::filesystem::path out_dir;
 };
 

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "hazmap/hazard/unknown_reason.hpp"
 #include "hazmap/map/dense_grid.hpp"
 
 namespace hazmap {
@@ -22,6 +23,14 @@ class Evidence {
  public:
   explicit Evidence(double k_sigma) : k_(k_sigma) {}
 
+  /// Names what blocks proof in the tests that follow (unknown_reason.hpp): incomplete or
+  /// missing data, and a statistic within k sigma of its threshold. Only recorded: a
+  /// classifier asked to explain itself (HazardClassifier::explain) reads reasons().
+  void why(std::uint16_t incomplete, std::uint16_t margin) {
+    why_incomplete_ = incomplete;
+    why_margin_ = margin;
+  }
+
   /// Adds one test. `complete`: the data behind s cover what the test needs (kernel fill,
   /// coverage, every ring sample). A NaN s or sigma is no evidence either way.
   /// `k_hazard` (>= k) replaces k on the hazard side where s is the most extreme of many
@@ -32,10 +41,18 @@ class Evidence {
   void test(double s, double sigma, double threshold, bool complete, double k_hazard) {
     if (!(std::isfinite(s) && sigma >= 0 && std::isfinite(sigma))) {
       proven_ = false;
+      reasons_ |= why_incomplete_;
       return;
     }
     if (s - k_hazard * sigma > threshold) hazard_ = true;
-    if (!complete || s + k_ * sigma > threshold) proven_ = false;
+    if (!complete) {
+      proven_ = false;
+      reasons_ |= why_incomplete_;
+    }
+    if (s + k_ * sigma > threshold) {
+      proven_ = false;
+      reasons_ |= why_margin_;
+    }
   }
   /// Evidence only: a statistic that can show a hazard but, being partial (one axis of a
   /// plane, part of a ring), can never prove the cell traversable nor block the proof of
@@ -45,10 +62,19 @@ class Evidence {
     if (std::isfinite(s) && std::isfinite(sigma) && s - k_hazard * sigma > threshold) hazard_ = true;
   }
   /// A test that could not be run (missing data): the cell cannot be proven traversable.
-  void missing() { proven_ = false; }
+  void missing() {
+    proven_ = false;
+    reasons_ |= why_incomplete_;
+  }
+  void missing(std::uint16_t reason) {
+    proven_ = false;
+    reasons_ |= reason;
+  }
 
   bool hazard() const { return hazard_; }
   double k() const { return k_; }
+  /// What blocked proof (UnknownReason bits); meaningful when result() is unknown.
+  std::uint16_t reasons() const { return reasons_; }
   HazardClass result() const {
     return hazard_ ? HazardClass::hazard : proven_ ? HazardClass::traversable : HazardClass::unknown;
   }
@@ -57,6 +83,7 @@ class Evidence {
   double k_;
   bool hazard_ = false;
   bool proven_ = true;
+  std::uint16_t why_incomplete_ = 0, why_margin_ = 0, reasons_ = 0;
 };
 
 }  // namespace hazmap

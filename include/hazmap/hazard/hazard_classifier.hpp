@@ -47,12 +47,27 @@ class HazardClassifier {
 
   const LayerHazardParams& params() const { return params_; }
 
+  /// A diagnostic pass (issue 34; `output.unknown_reasons`, for `hazmap evaluate`): a
+  /// whole-layer classification of `grids` that writes into `reasons` (given the layer's
+  /// geometry) the UnknownReason bits of each unknown cell, 0 at known cells. Separate
+  /// from classify() so that the per-frame path writes no such grid; it allocates.
+  void explain(const LayerGrids& grids, DenseGrid& reasons);
+
  protected:
+  /// Records a cell's reasons when explain() asked for them.
+  void record(int row, int col, const Evidence& ev) {
+    if (reasons_) reasons_->at(row, col) = ev.result() == HazardClass::unknown ? ev.reasons() : 0;
+  }
+  void record(int row, int col, std::uint16_t reasons) {
+    if (reasons_) reasons_->at(row, col) = reasons;
+  }
+
   /// Gives the diagnostics the geometry of `height` before a whole-layer classification.
   virtual void reset_diagnostics(const DenseGrid& /*height*/, HazardDiagnostics& /*diag*/) const {}
 
   LayerHazardParams params_;
   WheelRing ring_;
+  DenseGrid* reasons_ = nullptr;  ///< set during explain() only
 };
 
 /// SPEC 8.1 + 8.3: roughness kernel and step above the ring, on cell heights.

@@ -156,6 +156,9 @@ struct OutputConfig {
   /// 0: the full range.
   double png_height_clip_pct = 2.0;
   bool mosaic = false;    ///< also OUT/mosaic/<frame>.png: every layer side by side
+  /// Also L<i>_unknown_reason grids: why each unknown cell stayed unknown (UnknownReason
+  /// bits), from a diagnostic pass per written frame, for `hazmap evaluate`.
+  bool unknown_reasons = false;
 };
 
 /// The map core's part (map, rules, hazard: core/core_config.hpp) and the rest.

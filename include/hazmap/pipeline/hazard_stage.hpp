@@ -58,6 +58,10 @@ class HazardStage {
   const PlannerMaps& planner_maps() const { return planner_; }
   const HazardParams& params() const { return params_; }
 
+  /// Layer i's UnknownReason bits as the last run left it (HazardClassifier::explain: a
+  /// whole-layer diagnostic pass, for output.unknown_reasons; it allocates).
+  void explain(std::size_t i, DenseGrid& reasons) const;
+
   /// The cells of layer i the last run re-classified (the whole layer on a whole pass),
   /// and of the fused and footprint maps.
   const DirtyRegion& classified(std::size_t i) const { return layer_state_[i].classified; }

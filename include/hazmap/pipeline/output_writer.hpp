@@ -32,6 +32,7 @@ struct LayerOutputs {
   DenseGrid variance;                ///< as the map holds it; the writer adds the extra
   double published_extra_variance_m2 = 0.0;
   DenseGrid slope_x, slope_y;        ///< CCM layers only (rows 0 otherwise)
+  DenseGrid unknown_reason;          ///< output.unknown_reasons only (rows 0 otherwise)
   double resolution_m = 0.0;         ///< for the mosaic's titles
   RuleKind rule = RuleKind::kalman;
 };
