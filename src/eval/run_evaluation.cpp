@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -17,8 +18,8 @@
 #include "io/json_writer.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
-#include "hazmap/eval/plot.hpp"
 #include "hazmap/eval/grid_checks.hpp"
+#include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
@@ -639,8 +640,8 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       throw Error("--error-maps: frame '" + f + "' was not written by the run");
 
   // Every frame is read and scored before anything is written: a corrupt frame leaves OUT
-  // as it was. The error-map pages (a few hundred pixels each) wait in memory till then.
-  std::vector<std::pair<std::string, cv::Mat>> error_pages;
+  // as it was. The error-map pages wait in memory till then, PNG-encoded (tens of kB each).
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> error_pages;
   ev.pooled.assign(ev.layers.size(), MetricSums{});
   if (options.near_enabled()) ev.near_pooled.assign(ev.layers.size(), MetricSums{});
   // Dilated truths, one per radius in use (the footprint map's), made once.
@@ -725,15 +726,18 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
                    cv::Scalar(255, 255, 255));
       grid.copyTo(page(cv::Rect(0, 0, grid.cols, grid.rows)));
       legend.copyTo(page(cv::Rect(0, grid.rows, legend.cols, legend.rows)));
-      error_pages.emplace_back(name, page);
+      std::vector<unsigned char> png;
+      if (!cv::imencode(".png", page, png))
+        throw Error((ev.out_dir / ("errors_" + name + ".png")).string() + ": PNG encoding failed");
+      error_pages.emplace_back(name, std::move(png));
     }
     spdlog::info("evaluated frame {} {}", name, progress.step(static_cast<int>(f) + 1));
   }
   fs::create_directories(ev.out_dir);
   std::vector<std::pair<std::string, fs::path>> error_pngs;
-  for (const auto& [name, page] : error_pages) {
+  for (const auto& [name, bytes] : error_pages) {
     const fs::path png = ev.out_dir / ("errors_" + name + ".png");
-    write_png(png, page);
+    write_file_atomically(png, bytes);
     error_pngs.emplace_back(name, png);
   }
   write_outputs(options, ev, error_pngs, config);

@@ -109,8 +109,15 @@ RowOffsetEstimate estimate_row_offset(const cv::Mat& left, const cv::Mat& right,
       row[j] = (std::abs(p.y - q.y) <= o.max_offset_px && p.x - q.x >= -o.max_offset_px) ? 1 : 0;
     }
   }
-  std::vector<cv::DMatch> raw;
-  cv::BFMatcher(cv::NORM_HAMMING, /*crossCheck=*/true).match(dl, dr, raw, allowed);
+  // OpenCV's cross check takes no mask: both directions, kept where they agree.
+  std::vector<cv::DMatch> forward, backward, raw;
+  const cv::BFMatcher matcher(cv::NORM_HAMMING);
+  matcher.match(dl, dr, forward, allowed);
+  matcher.match(dr, dl, backward, cv::Mat(allowed.t()));
+  std::vector<int> back_of(kr.size(), -1);
+  for (const cv::DMatch& m : backward) back_of[static_cast<std::size_t>(m.queryIdx)] = m.trainIdx;
+  for (const cv::DMatch& m : forward)
+    if (back_of[static_cast<std::size_t>(m.trainIdx)] == m.queryIdx) raw.push_back(m);
 
   // Pass 1: each match refined to sub-pixel by patch correlation.
   const int r = o.patch_radius_px;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "hazmap/camera/rectifier.hpp"
@@ -13,6 +14,9 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/preflight_check.hpp"
+#include "hazmap/sim/simulate.hpp"
 #include "hazmap/stereo/row_offset.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 #include "test_support.hpp"
@@ -209,6 +213,43 @@ TEST(RowOffset, AutoMeasuresTheOffsetOnTheFirstFrame) {
   const double first = front.rectifier().row_offset();
   front.process(left, shifted(right, 0.0, 1.0), Pose3d::Identity());
   EXPECT_EQ(front.rectifier().row_offset(), first);
+}
+
+TEST(RowOffset, CheckMeasuresItAndTheConfiguredShiftRemovesIt) {
+  // A rendered flat field (rectified calibration: the right image gets a shift map), its
+  // right images moved 1.5 rows up: y_left - y_right = +1.5 px.
+  testing::TempDir dir;
+  sim::SimulationOptions o;
+  o.scenario = "flat";
+  o.seed = 5151;
+  o.frames = 1;
+  o.scale = 0.4;
+  o.png_compression = 1;
+  sim::simulate_sequence(o, dir.path());
+  for (const auto& e : fs::directory_iterator(dir / "right"))
+    cv::imwrite(e.path().string(), shifted(cv::imread(e.path().string(), cv::IMREAD_UNCHANGED), 0.0, 1.5));
+  const Sequence seq = load_sequence(dir.path());
+  const auto check = [&](const std::string& offset) {
+    return preflight_check(
+        load_config(testing::source_dir() / "config/default.yaml", {"stereo.row_offset_px=" + offset}),
+        seq, {});
+  };
+  const PreflightReport off = check("0");
+  EXPECT_NEAR(off.calibration.row_offset.offset_px, 1.5, 0.1);
+  EXPECT_EQ(off.calibration.row_offset.frames, 1);
+  ASSERT_FALSE(off.problems.empty());
+  EXPECT_EQ(off.problems.front().rfind("rectified rows disagree by +1.5", 0), 0u) << off.problems.front();
+  EXPECT_NE(format_report(off).find("row offset (features): y_left - y_right +1.5"), std::string::npos)
+      << format_report(off);
+  for (const std::string& setting : {std::string("1.5"), std::string("auto")}) {
+    SCOPED_TRACE(setting);
+    const PreflightReport on = check(setting);
+    EXPECT_NEAR(on.calibration.row_offset.applied_px, 1.5, 0.1);
+    EXPECT_NEAR(on.calibration.row_offset.offset_px, 0.0, 0.1);
+    EXPECT_TRUE(on.problems.empty()) << on.problems.front();
+    // Block matching compares the right rows again: more pixels get a disparity.
+    EXPECT_GT(on.frames[0].valid_disparity_share, off.frames[0].valid_disparity_share);
+  }
 }
 
 }  // namespace
