@@ -26,6 +26,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+const std::string kLayer =
+    "map:\n  layers:\n    - {resolution: 0.01, size: 128, rule: kalman, hazard: {kernel: 1}}\n";
+
 fs::path analog(const std::string& rig) {
   return testing::source_dir() / "../shared/data/planetary_analog" / rig / "seq";
 }
@@ -174,10 +177,10 @@ TEST(RowOffset, SharedK10PairAgreesToAboutAPixel) {
 TEST(RowOffset, ConfigTakesANumberOrAuto) {
   EXPECT_FALSE(Config{}.stereo.row_offset.automatic);
   EXPECT_EQ(Config{}.stereo.row_offset.px, 0.0);
-  const Config number = parse_config("stereo: {row_offset_px: -1.25}\n", "c.yaml");
+  const Config number = parse_config(kLayer + "stereo: {row_offset_px: -1.25}\n", "c.yaml");
   EXPECT_FALSE(number.stereo.row_offset.automatic);
   EXPECT_EQ(number.stereo.row_offset.px, -1.25);
-  const Config automatic = parse_config("stereo: {row_offset_px: auto}\n", "c.yaml");
+  const Config automatic = parse_config(kLayer + "stereo: {row_offset_px: auto}\n", "c.yaml");
   EXPECT_TRUE(automatic.stereo.row_offset.automatic);
   // The resolved configuration reads back as it was.
   EXPECT_TRUE(parse_config(to_yaml(automatic), "dump").stereo.row_offset.automatic);
@@ -186,7 +189,7 @@ TEST(RowOffset, ConfigTakesANumberOrAuto) {
                           "stereo: {row_offset_px: automatic}\n"}) {
     SCOPED_TRACE(bad);
     try {
-      parse_config(bad, "c.yaml");
+      parse_config(kLayer + bad, "c.yaml");
       ADD_FAILURE() << "accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("row_offset_px"), std::string::npos) << e.what();
@@ -197,7 +200,7 @@ TEST(RowOffset, ConfigTakesANumberOrAuto) {
 TEST(RowOffset, AutoMeasuresTheOffsetOnTheFirstFrame) {
   const StereoCalibration calib =
       load_stereo_calibration(analog("polar_traverse_1m") / "calibration.yaml");
-  StereoConfig stereo = parse_config("stereo: {row_offset_px: auto, matcher: bm, num_disparities: 64}\n",
+  StereoConfig stereo = parse_config(kLayer + "stereo: {row_offset_px: auto, matcher: bm, num_disparities: 64}\n",
                                      "c.yaml").stereo;
   StereoFrontEnd front(stereo, SensorConfig{}, calib, false);
   EXPECT_EQ(front.rectifier().row_offset(), 0.0);
