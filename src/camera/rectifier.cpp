@@ -70,7 +70,7 @@ cv::Rect valid_region(const cv::Mat& map1, const cv::Mat& map2, cv::Size size) {
 
 }  // namespace
 
-Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
+Rectifier::Rectifier(const StereoCalibration& calib, double alpha, double row_offset_px)
     : size_(calib.image_width, calib.image_height) {
   if (calib.rectified) {
     identity_ = true;
@@ -78,7 +78,8 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
     geometry_.cx_px = calib.left.K(0, 2);
     geometry_.cy_px = calib.left.K(1, 2);
     geometry_.baseline_m = -calib.T.x();
-    valid_roi_ = valid_roi_right_ = cv::Rect(0, 0, size_.width, size_.height);
+    valid_roi_ = valid_roi_right_ = roi_right_unshifted_ = cv::Rect(0, 0, size_.width, size_.height);
+    if (row_offset_px != 0.0) set_row_offset(row_offset_px);
     return;
   }
   cv::eigen2cv(calib.left.K, K1_);
@@ -115,6 +116,47 @@ Rectifier::Rectifier(const StereoCalibration& calib, double alpha)
   const cv::Rect whole(0, 0, size_.width, size_.height);
   if (valid_roi_.area() == 0) valid_roi_ = whole;
   if (valid_roi_right_.area() == 0) valid_roi_right_ = whole;
+  roi_right_unshifted_ = valid_roi_right_;
+  P2_shifted_ = P2_;
+  if (row_offset_px != 0.0) set_row_offset(row_offset_px);
+}
+
+void Rectifier::set_row_offset(double px) {
+  if (!std::isfinite(px)) throw Error("rectifier: the row offset must be a finite number");
+  row_offset_px_ = px;
+  const cv::Rect whole(0, 0, size_.width, size_.height);
+  if (identity_) {
+    // Already rectified: only the right image moves, through a plain shift map.
+    remap_right_ = px != 0.0;
+    if (remap_right_) {
+      cv::Mat map_x(size_, CV_32FC1), map_y(size_, CV_32FC1);
+      for (int v = 0; v < size_.height; ++v)
+        for (int u = 0; u < size_.width; ++u) {
+          map_x.at<float>(v, u) = static_cast<float>(u);
+          map_y.at<float>(v, u) = static_cast<float>(v - px);
+        }
+      cv::convertMaps(map_x, map_y, map_right_x_, map_right_y_, CV_16SC2);
+    }
+  } else {
+    // A principal point px lower moves every rectified right pixel px rows down.
+    P2_shifted_ = P2_.clone();
+    P2_shifted_.at<double>(1, 2) += px;
+    if (models_.empty()) {
+      cv::initUndistortRectifyMap(K2_, D2_, R2_cv_, P2_shifted_, size_, CV_16SC2, map_right_x_,
+                                  map_right_y_);
+    } else {
+      model_maps(models_[1], R2_cv_, P2_shifted_, size_, map_right_x_, map_right_y_);
+      valid_roi_right_ = valid_region(map_right_x_, map_right_y_, size_);
+      if (valid_roi_right_.area() == 0) valid_roi_right_ = whole;
+      return;
+    }
+  }
+  // The valid region moves with the image, shrunk to whole rows.
+  const cv::Rect& r = roi_right_unshifted_;
+  const int top = static_cast<int>(std::ceil(r.y + px));
+  const int bottom = static_cast<int>(std::floor(r.y + r.height + px));
+  valid_roi_right_ = cv::Rect(r.x, top, r.width, std::max(0, bottom - top)) & whole;
+  if (valid_roi_right_.area() == 0) valid_roi_right_ = whole;
 }
 
 void Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_left,
@@ -126,7 +168,8 @@ void Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_
                 std::to_string(size_.height));
   if (identity_) {
     out_left = left;
-    out_right = right;
+    if (remap_right_) cv::remap(right, out_right, map_right_x_, map_right_y_, cv::INTER_LINEAR);
+    else out_right = right;
     return;
   }
   cv::remap(left, out_left, map_left_x_, map_left_y_, cv::INTER_LINEAR);
@@ -135,17 +178,19 @@ void Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_
 
 void Rectifier::rectify_points(StereoSide side, const std::vector<cv::Point2f>& raw_px,
                                std::vector<cv::Point2f>& rectified_px) const {
+  const bool left = side == StereoSide::left;
   if (identity_ || raw_px.empty()) {
     rectified_px = raw_px;
+    if (!left)
+      for (cv::Point2f& p : rectified_px) p.y += static_cast<float>(row_offset_px_);
     return;
   }
-  const bool left = side == StereoSide::left;
   if (!models_.empty()) {
     // Through the model: raw pixel -> direction (Newton) -> rectified camera -> P.
     const CahvoreModel& model = models_[left ? 0 : 1];
     Eigen::Matrix3d R, P33;
     cv::cv2eigen(left ? R1_cv_ : R2_cv_, R);
-    cv::cv2eigen((left ? P1_ : P2_)(cv::Rect(0, 0, 3, 3)), P33);
+    cv::cv2eigen((left ? P1_ : P2_shifted_)(cv::Rect(0, 0, 3, 3)), P33);
     const Eigen::Matrix3d to_rectified = P33 * R * cahv_pinhole(model).T_M_C.linear().transpose();
     rectified_px.resize(raw_px.size());
     for (size_t i = 0; i < raw_px.size(); ++i) {
@@ -162,7 +207,7 @@ void Rectifier::rectify_points(StereoSide side, const std::vector<cv::Point2f>& 
   // The iterative undistortion needs more than OpenCV's default 5 iterations to be exact
   // (to 1e-4 px) near the corners of strongly distorted lenses such as EuRoC's.
   cv::undistortPoints(raw_px, rectified_px, left ? K1_ : K2_, left ? D1_ : D2_,
-                      left ? R1_cv_ : R2_cv_, left ? P1_ : P2_,
+                      left ? R1_cv_ : R2_cv_, left ? P1_ : P2_shifted_,
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-9));
 }
 

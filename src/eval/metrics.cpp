@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/eval/grid_checks.hpp"
 
 namespace hazmap::eval {
 
@@ -197,7 +198,10 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
       const bool gt_hazard = obstacle_m >= h_min_m;
       const bool gt_free = obstacle_m <= 0.0;
       px.gt_hazard_px = gt_hazard;
-      const auto cls = static_cast<HazardClass>(static_cast<int>(window.at(mr, mc)));
+      HazardClass cls;
+      if (!hazard_class_of(window.at(mr, mc), &cls))
+        throw Error("evaluation: hazard grid cell (" + std::to_string(mr) + ", " +
+                    std::to_string(mc) + ") holds no hazard class (0, 1, 2 or nodata)");
       const bool known = cls != HazardClass::unknown;
       PixelOutcome outcome = PixelOutcome::unknown;
       if (known) {

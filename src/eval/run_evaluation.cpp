@@ -20,6 +20,7 @@
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/html_report.hpp"
+#include "hazmap/eval/grid_checks.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
@@ -172,11 +173,8 @@ GroundTruth read_ground_truth(const fs::path& sequence_dir) {
                   ": missing ground truth (simulate with --ground-truth)");
   gt.height = read_dense_grid(sequence_dir / "gt_height.jdem");
   gt.hazard = read_dense_grid(sequence_dir / "gt_hazard.jdem");
-  if (gt.height.rows != gt.hazard.rows || gt.height.cols != gt.hazard.cols ||
-      gt.height.resolution_m != gt.hazard.resolution_m ||
-      gt.height.center_x_m != gt.hazard.center_x_m || gt.height.center_y_m != gt.hazard.center_y_m)
-    throw Error((sequence_dir / "gt_hazard.jdem").string() +
-                ": grid differs from gt_height.jdem (size, resolution or centre)");
+  check_same_geometry(gt.hazard, (sequence_dir / "gt_hazard.jdem").string(), gt.height,
+                      (sequence_dir / "gt_height.jdem").string());
   return gt;
 }
 
@@ -343,20 +341,25 @@ cv::Mat outcome_legend() {
   return img;
 }
 
+/// A layer's grids of one frame, each checked as read: hazard classes, and every other
+/// grid on the hazard grid's geometry (errors name the files).
 LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
   LayerMaps maps;
-  if (layer.index < 0) {
-    maps.hazard = read_dense_grid(frame_dir / layer.hazard_file);
-    return maps;
-  }
+  const fs::path hazard_file =
+      frame_dir / (layer.index < 0 ? layer.hazard_file : "L" + std::to_string(layer.index) + "_hazard.jdem");
+  maps.hazard = read_dense_grid(hazard_file);
+  check_hazard_classes(maps.hazard, hazard_file.string());
+  if (layer.index < 0) return maps;
   const std::string p = "L" + std::to_string(layer.index) + "_";
-  maps.hazard = read_dense_grid(frame_dir / (p + "hazard.jdem"));
-  maps.height = read_dense_grid(frame_dir / (p + "height.jdem"));
-  if (fs::exists(frame_dir / (p + "variance.jdem")))
-    maps.variance = read_dense_grid(frame_dir / (p + "variance.jdem"));
+  const auto read_beside = [&](const std::string& name, DenseGrid& into) {
+    into = read_dense_grid(frame_dir / (p + name));
+    check_same_geometry(into, (frame_dir / (p + name)).string(), maps.hazard, hazard_file.string());
+  };
+  read_beside("height.jdem", maps.height);
+  if (fs::exists(frame_dir / (p + "variance.jdem"))) read_beside("variance.jdem", maps.variance);
   if (rule_has_plane(layer.rule)) {
-    maps.slope_x = read_dense_grid(frame_dir / (p + "slope_x.jdem"));
-    maps.slope_y = read_dense_grid(frame_dir / (p + "slope_y.jdem"));
+    read_beside("slope_x.jdem", maps.slope_x);
+    read_beside("slope_y.jdem", maps.slope_y);
   }
   return maps;
 }
@@ -770,8 +773,9 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
     if (f != "all" && !std::binary_search(ev.frames.begin(), ev.frames.end(), f))
       throw Error("--error-maps: frame '" + f + "' was not written by the run");
 
-  fs::create_directories(ev.out_dir);
-  std::vector<std::pair<std::string, fs::path>> error_pngs;
+  // Every frame is read and scored before anything is written: a corrupt frame leaves OUT
+  // as it was. The error-map pages wait in memory till then, PNG-encoded (tens of kB each).
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> error_pages;
   ev.pooled.assign(ev.layers.size(), MetricSums{});
   if (options.near_enabled()) ev.near_pooled.assign(ev.layers.size(), MetricSums{});
   // Dilated truths, one per radius in use (the footprint map's), made once.
@@ -902,11 +906,19 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
                    cv::Scalar(255, 255, 255));
       grid.copyTo(page(cv::Rect(0, 0, grid.cols, grid.rows)));
       legend.copyTo(page(cv::Rect(0, grid.rows, legend.cols, legend.rows)));
-      const fs::path png = ev.out_dir / ("errors_" + name + ".png");
-      write_png(png, page);
-      error_pngs.emplace_back(name, png);
+      std::vector<unsigned char> png;
+      if (!cv::imencode(".png", page, png))
+        throw Error((ev.out_dir / ("errors_" + name + ".png")).string() + ": PNG encoding failed");
+      error_pages.emplace_back(name, std::move(png));
     }
     spdlog::info("evaluated frame {} {}", name, progress.step(static_cast<int>(f) + 1));
+  }
+  fs::create_directories(ev.out_dir);
+  std::vector<std::pair<std::string, fs::path>> error_pngs;
+  for (const auto& [name, bytes] : error_pages) {
+    const fs::path png = ev.out_dir / ("errors_" + name + ".png");
+    write_file_atomically(png, bytes);
+    error_pngs.emplace_back(name, png);
   }
   write_outputs(options, ev, error_pngs, config);
   return ev;

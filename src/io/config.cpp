@@ -86,6 +86,13 @@ void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, 
               m.fail(name, "expected 4 integers [x, y, width, height]");
             field(owner)[i] = static_cast<int>(values[i]);
           }
+        } else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>) {
+          // A number, or the word `auto`.
+          if (!m.has(name)) return;
+          std::string text;
+          m.get(name, text);
+          field(owner).automatic = text == "auto";
+          if (!field(owner).automatic) m.get(name, field(owner).px);
         } else {
           m.get(name, field(owner));
         }
@@ -166,6 +173,8 @@ void check_key(const std::string& name, const ConfigKey<Owner>& key, Owner& owne
           check_number(static_cast<double>(field(owner)));
         else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>)
           for (const int v : field(owner)) check_number(v);
+        else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>)
+          if (!field(owner).automatic) check_number(field(owner).px);
       },
       key.field);
 }
@@ -248,6 +257,9 @@ void emit_value(YAML::Emitter& out, const ConfigKey<Owner>& key, Owner& owner) {
           out << YAML::Flow << YAML::BeginSeq;
           for (const int v : field(owner)) out << v;
           out << YAML::EndSeq;
+        } else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>) {
+          if (field(owner).automatic) out << "auto";
+          else out << field(owner).px;
         } else {
           out << field(owner);
         }

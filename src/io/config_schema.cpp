@@ -148,6 +148,9 @@ const std::vector<TopKey>& config_keys() {
        {finite("must be finite and >= 0", 0)}},
       {"stereo.band_max_depth", CONFIG_FIELD(stereo.band_max_depth_m), "m",
        "`ground_band` terrain: depressions down to this below the wheel plane", {finite("must be finite and >= 0", 0)}},
+      {"stereo.row_offset_px", CONFIG_FIELD(stereo.row_offset), "px",
+       "rows the rectified right image is moved down so that its rows agree with the left's (y_left - y_right of the rectified pair, as `hazmap check` measures it from feature matches; [docs/stereo.md](docs/stereo.md)): a residual calibration error. `auto`: measured once, from the first frame with enough matches. 0 off",
+       {finite("must be a number of pixels in [-100, 100] or `auto`", -100, 100)}},
       // sensor (SPEC 4)
       {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}},
       {"sensor.pointing_error_px", CONFIG_FIELD(sensor.pointing_error_px), "px", "pixel noise p", {at_least(0)}},
@@ -290,6 +293,8 @@ std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
           using V = std::decay_t<decltype(value)>;
           if constexpr (std::is_same_v<V, bool>) text << (value ? "true" : "false");
           else if constexpr (std::is_enum_v<V>) text << "`" << enum_name(value) << "`";
+          else if constexpr (std::is_same_v<V, RowOffsetSetting>)
+            text << (value.automatic ? std::string("`auto`") : number_text(value.px));
           else if constexpr (std::is_same_v<V, std::array<int, 4>>)
             text << "`[" << value[0] << ", " << value[1] << ", " << value[2] << ", " << value[3] << "]`";
           else text << value;

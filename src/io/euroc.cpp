@@ -1,6 +1,7 @@
 #include "hazmap/io/euroc.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -135,6 +136,10 @@ EurocCamera read_euroc_camera(const fs::path& path) {
   std::vector<double> resolution, intrinsics;
   if (!top.has("resolution")) top.fail("resolution", "missing required key");
   top.get("resolution", resolution, 2);
+  // Range-checked before the conversion (a double beyond int's range is undefined to convert).
+  for (const double side : resolution)
+    if (!(side >= 1 && side <= 1e6) || side != std::floor(side))
+      top.fail("resolution", "expected [width, height] in whole pixels in [1, 1000000]");
   cam.width_px = static_cast<int>(resolution[0]);
   cam.height_px = static_cast<int>(resolution[1]);
   if (!top.has("intrinsics")) top.fail("intrinsics", "missing required key");

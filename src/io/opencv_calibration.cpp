@@ -58,6 +58,8 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::filesystem::path& path
   if (m.empty()) fail(path, key, "not a matrix (expected !!opencv-matrix)");
   cv::Mat out;
   m.convertTo(out, CV_64F);
+  // Checked here, under the key as this file spells it (D1, not the calibration's left.D).
+  if (!cv::checkRange(out)) fail(path, key, "holds a value that is not a finite number");
   return out;
 }
 

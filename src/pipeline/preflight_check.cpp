@@ -10,6 +10,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/stereo/row_offset.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
@@ -149,6 +150,55 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
   return fc;
 }
 
+/// Adds the row offset of the front end's current rectified pair to `per_frame`.
+void add_row_offset(const StereoFrontEnd& front, std::vector<RowOffsetEstimate>& per_frame) {
+  const RowOffsetEstimate e = estimate_row_offset(front.rectified_left(), front.rectified_right());
+  per_frame.push_back(e);
+}
+
+/// The frames' row offsets in one figure: medians over the frames with an estimate.
+RowOffsetCheck summarise_row_offsets(const std::vector<RowOffsetEstimate>& per_frame,
+                                     const StereoFrontEnd& front, const Config& config) {
+  RowOffsetCheck out;
+  out.applied_px = front.rectifier().row_offset();
+  out.automatic = config.stereo.row_offset.automatic;
+  std::vector<double> offsets, spreads;
+  for (const RowOffsetEstimate& e : per_frame) {
+    out.matches += e.matches;
+    if (!e.found) continue;
+    ++out.frames;
+    out.inliers += e.inliers;
+    offsets.push_back(e.offset_px);
+    spreads.push_back(e.spread_px);
+  }
+  if (out.frames > 0) {
+    out.offset_px = median(offsets);
+    out.spread_px = median(spreads);
+  }
+  return out;
+}
+
+/// The verdict's line on the row offset (empty when fine or not measured).
+std::string row_offset_problem(const RowOffsetCheck& o, double max_px) {
+  if (o.frames == 0 || std::abs(o.offset_px) <= max_px) return "";
+  return fmt("rectified rows disagree by %+.2f px (y_left - y_right, spread %.2f px, feature "
+             "matches; > %.2f px): set stereo.row_offset_px to %.2f (or auto)",
+             o.offset_px, o.spread_px, max_px, o.applied_px + o.offset_px);
+}
+
+/// The report's line on the row offset.
+std::string format_row_offset(const RowOffsetCheck& o) {
+  std::string applied = fmt("%+.2f px", o.applied_px);
+  if (o.automatic) applied += " (auto)";
+  if (o.frames == 0)
+    return "row offset: too few feature matches to measure (" + std::to_string(o.matches) +
+           " matches); stereo.row_offset_px " + applied + "\n";
+  return fmt("row offset (features): y_left - y_right %+.2f px, spread %.2f px, ", o.offset_px,
+             o.spread_px) +
+         std::to_string(o.inliers) + " of " + std::to_string(o.matches) + " matches in " +
+         std::to_string(o.frames) + " frames; after stereo.row_offset_px " + applied + "\n";
+}
+
 void add_problems(PreflightReport& r, const Config& config, const PreflightLimits& limits) {
   auto& out = r.problems;
   const CalibrationCheck& c = r.calibration;
@@ -160,6 +210,8 @@ void add_problems(PreflightReport& r, const Config& config, const PreflightLimit
     out.push_back(fmt("rectified rows disagree by %.2f px RMS (max %.2f px) on the chessboard "
                       "(> %.2f px): the calibration's R, T or intrinsics do not fit these cameras",
                       c.rows.rms_px, c.rows.max_px, limits.max_row_error_rms_px));
+  if (const std::string p = row_offset_problem(c.row_offset, limits.max_row_offset_px); !p.empty())
+    out.push_back(p);
   if (r.frames.empty()) return;
 
   std::vector<double> valid, below, tilt_w, tilt_b, body_h, near_d, near_disp, near_pt;
@@ -265,8 +317,10 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
       options.boards.empty() ? std::vector<cv::Size>(std::begin(kCommonBoards), std::end(kCommonBoards))
                              : options.boards;
   std::vector<double> dv;
+  std::vector<RowOffsetEstimate> row_offsets;
   for (const SequenceFrame& f : frames) {
     report.frames.push_back(check_frame(front, f, config, sequence.calibration));
+    add_row_offset(front, row_offsets);
     // Looking for a board costs more than the frame's stereo: without a named board the
     // common ones are tried on the first frame only, later frames look for the one found.
     const bool first = report.frames.size() == 1;
@@ -281,6 +335,7 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
       }
     }
   }
+  c.row_offset = summarise_row_offsets(row_offsets, front, config);
   report.search_min_disparity = front.matcher().min_disparity();
   report.search_num_disparities = front.matcher().num_disparities();
   if (!dv.empty()) {
@@ -309,6 +364,7 @@ std::string format_report(const PreflightReport& r) {
          fmt(" (max %.2f px)\n", c.rows.max_px);
   else
     s += "rectification: no chessboard in view, row error not measured\n";
+  s += format_row_offset(c.row_offset);
   s += fmt("disparity search: [%.0f, %.0f) px; z_min %.2f m\n", r.search_min_disparity,
            r.search_min_disparity + r.search_num_disparities, r.z_min_m);
   s += "frame         valid  points  below   ground  tilt W  tilt B  cam h   body h  "

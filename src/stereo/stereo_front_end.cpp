@@ -4,7 +4,10 @@
 
 #include <chrono>
 
+#include <spdlog/spdlog.h>
+
 #include "hazmap/stereo/ground_band.hpp"
+#include "hazmap/stereo/row_offset.hpp"
 
 namespace hazmap {
 namespace {
@@ -20,14 +23,16 @@ double ms_since(Clock::time_point start) {
 StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& sensor,
                                const StereoCalibration& calibration, bool keep_pixels)
     : grey_(stereo.input_bits),
-      rectifier_(calibration, stereo.rectify_alpha),
+      rectifier_(calibration, stereo.rectify_alpha,
+                 stereo.row_offset.automatic ? 0.0 : stereo.row_offset.px),
       matcher_(stereo, rectifier_.geometry(),
                rectified_camera_in_body(calibration.T_B_C, rectifier_.R1()),
                rectifier_.image_size()),
       support_(stereo.support_rows, stereo.support_tolerance, stereo.support_margin_px),
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),
-      keep_pixels_(keep_pixels) {
+      keep_pixels_(keep_pixels),
+      auto_row_offset_tries_(stereo.row_offset.automatic ? kAutoRowOffsetFrames : 0) {
   builder_.set_search_end_by_row(matcher_.search_end_by_row(rectifier_.image_size().height));
 }
 
@@ -46,6 +51,7 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
 
   t = Clock::now();
   rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
+  if (auto_row_offset_tries_ > 0) measure_row_offset();
   times.rectify_ms = ms_since(t);
 
   t = Clock::now();
@@ -71,6 +77,26 @@ StereoTimes StereoFrontEnd::process(const cv::Mat& left, const cv::Mat& right,
   occluded_ = drops.occluded;
   times.points_ms = ms_since(t);
   return times;
+}
+
+void StereoFrontEnd::measure_row_offset() {
+  --auto_row_offset_tries_;
+  const RowOffsetEstimate e = estimate_row_offset(rect_left_, rect_right_);
+  if (!e.found) {
+    if (auto_row_offset_tries_ > 0)
+      spdlog::info("stereo.row_offset_px auto: {} matches, {} consistent, too few; trying the "
+                   "next frame", e.matches, e.inliers);
+    else
+      spdlog::warn("stereo.row_offset_px auto: too few feature matches in the first {} frames; "
+                   "rows left as rectified (offset 0)", kAutoRowOffsetFrames);
+    return;
+  }
+  auto_row_offset_tries_ = 0;
+  spdlog::info("stereo.row_offset_px auto: {:+.2f} px (spread {:.2f} px, {} of {} matches)",
+               e.offset_px, e.spread_px, e.inliers, e.matches);
+  rectifier_.set_row_offset(e.offset_px);
+  builder_.set_valid_roi_right(rectifier_.valid_roi_right());
+  rectifier_.rectify(grey_left_, grey_right_, rect_left_, rect_right_);
 }
 
 void StereoFrontEnd::set_map_points_output(CcmWeighting weighting) {

@@ -37,6 +37,16 @@ const char* const kRawCalibration =
     "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-0.05, 0, 0]\n"
     "T_body_left: {translation: [0, 0.025, 0.15], rpy_deg: [-90, 0, -90]}\n";
 
+// An OpenCV FileStorage calibration of the same rig with a NaN among the left distortion.
+const char* const kOpenCvNanD1 =
+    "%YAML:1.0\n---\nimage_width: 64\nimage_height: 48\n"
+    "M1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 50., 0., 31.5, 0., 50., 23.5, 0., 0., 1. ]\n"
+    "D1: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0.01, .Nan, 0., 0., 0. ]\n"
+    "M2: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 50., 0., 31.5, 0., 50., 23.5, 0., 0., 1. ]\n"
+    "D2: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0.01, 0., 0., 0., 0. ]\n"
+    "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n"
+    "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.05, 0., 0. ]\n";
+
 const char* const kConfig =
     "stereo: {num_disparities: 16, block_size: 5, z_max: 10}\n"
     "map:\n  layers:\n    - {resolution: 0.01, size: 16, rule: kalman, hazard: {kernel: 3}}\n";
@@ -226,6 +236,9 @@ TEST(BadInput, Calibration) {
       {"OpenCV layout, not a map", calibration_text("%YAML:1.0\n-\n"), file},
       {"OpenCV layout without M1", calibration_text("%YAML:1.0\n---\nimage_width: 64\n"),
        file + ": key 'M1'"},
+      // Issue 37: named as the file spells the key (D1), not as the calibration's left.D.
+      {"OpenCV layout, NaN in D1", calibration_text(kOpenCvNanD1),
+       "hazmap: error: " + file + ": key 'D1': holds a value that is not a finite number\n"},
   };
   BadInputs b;
   b.run_all(cases);

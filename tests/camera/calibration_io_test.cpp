@@ -223,5 +223,27 @@ TEST(CalibrationFile, OpenCvMatrixSizeIsCheckedBeforeOpenCvAllocatesIt) {
             file + ": key 'M1': matrix data must hold rows x cols = 9 numbers");
 }
 
+// Issue 37: a NaN in an OpenCV file's D1 was reported as key 'left.D'; every matrix is
+// now checked as read, under the key the file spells.
+TEST(CalibrationFile, OpenCvNonFiniteValueIsNamedWithTheFilesKey) {
+  testing::TempDir dir;
+  const std::string matrix3 = "!!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: ";
+  const std::string k = matrix3 + "[ 50., 0., 31.5, 0., 50., 23.5, 0., 0., 1. ]\n";
+  const std::string d = "!!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: ";
+  const std::string head = "%YAML:1.0\n---\nimage_width: 64\nimage_height: 48\n";
+  auto message = [&](const std::string& text) {
+    std::ofstream(dir / "stereo.yml", std::ios::trunc) << head << text;
+    return error_of([&] { load_opencv_stereo_calibration(dir / "stereo.yml"); });
+  };
+  const std::string file = (dir / "stereo.yml").string();
+  EXPECT_EQ(message("M1: " + k + "D1: " + d + "[ 0.01, .Nan, 0., 0., 0. ]\n"),
+            file + ": key 'D1': holds a value that is not a finite number");
+  EXPECT_EQ(message("M1: " + matrix3 + "[ 50., 0., .Inf, 0., 50., 23.5, 0., 0., 1. ]\n"),
+            file + ": key 'M1': holds a value that is not a finite number");
+  EXPECT_EQ(message("M1: " + k + "D1: " + d + "[ 0., 0., 0., 0., 0. ]\nM2: " + k + "D2: " + d +
+                    "[ 0., 0., 0., 0., -.Inf ]\n"),
+            file + ": key 'D2': holds a value that is not a finite number");
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -95,6 +95,9 @@ std::vector<std::string> candidates(const ConfigKey<Owner>& key, Owner& defaults
               if (c != enum_name(value)) out.push_back(c);
           } else if constexpr (std::is_same_v<V, std::array<int, 4>>) {
             out.push_back("[1, 2, 3, 4]");
+          } else if constexpr (std::is_same_v<V, RowOffsetSetting>) {
+            out.push_back("1.5");
+            out.push_back("auto");
           } else {
             const bool integer = std::is_same_v<V, int>;
             const double d = value;

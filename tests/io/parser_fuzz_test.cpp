@@ -15,8 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "eval/oracle_run.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/eval/grid_checks.hpp"
+#include "hazmap/eval/run_evaluation.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "test_support.hpp"
@@ -27,6 +30,8 @@ namespace {
 constexpr unsigned kSeed = 20240624;
 constexpr int kCasesPerParser = 400;
 constexpr double kBudgetSeconds = 60.0;  // per parser, far above the ~1 s a Release build needs
+// `hazmap evaluate` reads and scores a whole run per case: fewer cases, the same budget.
+constexpr int kEvaluateCases = 150;
 
 const char* const kTokens[] = {
     "1e300", "-1e300", "1e-300", "nan", "inf", "-inf", "0", "-0", "-1", "2147483647",
@@ -235,6 +240,89 @@ TEST(ParserFuzz, CalibrationGivesACalibrationOrOneLineNamingTheFile) {
 TEST(ParserFuzz, OpenCvCalibrationGivesACalibrationOrOneLineNamingTheFile) {
   const Tally t =
       fuzz_calibration(kValidOpenCvCalibration, "stereo_calib.yml", kSeed + 3, expect_sane);
+  EXPECT_GT(t.accepted, 0);
+  EXPECT_GT(t.rejected, 0);
+}
+
+const char* const kValidHazardJdem =
+    "JDEM 1\nquantity: hazard\nunits: class\nrows: 3\ncols: 4\nresolution: 0.04\n"
+    "center_x: 1.2\ncenter_y: -0.4\nyaw: 0\nnodata: nan\nframe: 000012\ndata:\n"
+    "0 1 2 nan\n1 1 2 0\n2 nan 1 1\n";
+
+// Issue 37: a hazard grid holding -inf reached an int conversion in the evaluation.
+TEST(ParserFuzz, HazardGridGivesClassesOrOneLineNamingTheFile) {
+  const Tally t = fuzz(kValidHazardJdem, "fuzz_hazard.jdem", kSeed + 4,
+                       [](const std::string& text, const std::string& source) {
+                         const JdemGrid g = parse_jdem(text, source);
+                         eval::check_hazard_classes(g, source);
+                         HazardClass c;
+                         for (const float v : g.values) EXPECT_TRUE(eval::hazard_class_of(v, &c)) << v;
+                       });
+  EXPECT_GT(t.accepted, 0);
+  EXPECT_GT(t.rejected, 0);
+}
+
+// `hazmap evaluate`'s inputs, one file of a small valid run mutated per case: the layer
+// grids, the fused map, the ground truth and the poses. Each case scores (finite metrics)
+// or throws one line naming a file, and a failed case writes nothing into OUT.
+TEST(ParserFuzz, EvaluateGivesMetricsOrOneLineNamingAFile) {
+  namespace fs = std::filesystem;
+  testing::TempDir dir;
+  const fs::path run = dir / "run", seq = dir / "seq", out = dir / "out";
+  testing::TestWorld w;
+  w.rows = w.cols = 60;
+  w.rocks = {{1.0, 0.1, 0.08}};
+  const std::vector<testing::OracleLayer> layers = {
+      testing::build_oracle_layer(w, 0.04, 12, 1.0, 0.0, 0.03, true, 1e-4),
+      testing::build_oracle_layer(w, 0.08, 6, 1.0, 0.0, 0.05, false, 1e-4)};
+  testing::write_ground_truth(seq, w);
+  testing::write_poses(seq / "poses.txt", {"000000"}, {{0.0, 0.0}});
+  testing::write_oracle_run(run, testing::oracle_config(), {"000000"}, {layers});
+  const fs::path frame = run / "frames" / "000000";
+  const std::vector<fs::path> targets = {
+      frame / "L0_hazard.jdem", frame / "L1_hazard.jdem", frame / "fused_hazard.jdem",
+      frame / "L0_height.jdem", frame / "L0_slope_x.jdem", frame / "L1_variance.jdem",
+      seq / "gt_hazard.jdem",   seq / "gt_height.jdem",    seq / "poses.txt"};
+  std::vector<std::string> originals;
+  for (const fs::path& p : targets) originals.push_back(testing::read_text(p));
+  eval::EvaluationOptions options;
+  options.run_dir = run;
+  options.sequence_dir = seq;
+  options.out_dir = out;
+  options.error_map_frames = {"all"};
+  ASSERT_NO_THROW(eval::evaluate_run(options));  // the valid run scores
+  fs::remove_all(out);
+
+  Mutator mutator(kSeed + 5);
+  Tally t;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < kEvaluateCases; ++i) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+        kBudgetSeconds)
+      break;
+    const size_t k = static_cast<size_t>(i) % targets.size();
+    const std::string text = mutator.mutate(originals[k]);
+    std::ofstream(targets[k], std::ios::binary | std::ios::trunc) << text;
+    ++t.cases;
+    try {
+      const eval::RunEvaluation ev = eval::evaluate_run(options);
+      ++t.accepted;
+      EXPECT_EQ(ev.sums.size(), 1u);
+      EXPECT_TRUE(fs::exists(out / "metrics.csv"));
+    } catch (const Error& e) {
+      ++t.rejected;
+      const std::string m = e.what();
+      EXPECT_EQ(m.find('\n'), std::string::npos) << "case " << i << ": " << m;
+      EXPECT_NE(m.find(dir.path().string()), std::string::npos) << "case " << i << ": " << m;
+      EXPECT_FALSE(fs::exists(out)) << "case " << i << " wrote into OUT before failing: " << m;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "case " << i << " (" << targets[k] << "): raw " << typeid(e).name() << ": "
+                    << e.what();
+    }
+    fs::remove_all(out);
+    std::ofstream(targets[k], std::ios::binary | std::ios::trunc) << originals[k];
+  }
+  std::printf("evaluate: %d cases, %d accepted, %d rejected\n", t.cases, t.accepted, t.rejected);
   EXPECT_GT(t.accepted, 0);
   EXPECT_GT(t.rejected, 0);
 }

@@ -23,7 +23,15 @@ class Rectifier {
   /// `alpha` as in cv::stereoRectify (0: only valid pixels, 1: all source pixels,
   /// -1: OpenCV's default). Rectified calibrations skip remapping. Throws Error if the
   /// right camera is not to the right of the left one after rectification.
-  Rectifier(const StereoCalibration& calibration, double alpha);
+  /// `row_offset_px`: set_row_offset()'s shift, 0 for none.
+  Rectifier(const StereoCalibration& calibration, double alpha, double row_offset_px = 0.0);
+
+  /// Moves the rectified right image down by `px` rows (its maps rebuilt: the rectified
+  /// right camera's principal point cy + px), so that a pair whose rectified rows differ
+  /// by y_left - y_right = px (row_offset.hpp) agrees. Rectified calibrations get a
+  /// remap of the right image then. Not per frame: it builds a map.
+  void set_row_offset(double px);
+  double row_offset() const { return row_offset_px_; }
 
   /// Remaps both images (any depth and channel count, e.g. 8-bit grey) into the
   /// rectified frame, reusing the `out_*` buffers. For rectified sequences this is a
@@ -51,8 +59,12 @@ class Rectifier {
  private:
   cv::Size size_;
   bool identity_ = false;
+  bool remap_right_ = false;  ///< identity_ with a row offset: the right image is remapped
+  double row_offset_px_ = 0.0;
+  cv::Rect roi_right_unshifted_;
   cv::Mat map_left_x_, map_left_y_, map_right_x_, map_right_y_;
   cv::Mat K1_, D1_, K2_, D2_, R1_cv_, R2_cv_, P1_, P2_;
+  cv::Mat P2_shifted_;  ///< P2_ with cy + row_offset_px_: what the right map uses
   std::vector<CahvoreModel> models_;  ///< JPL models {left, right}, or empty
   StereoGeometry geometry_;
   Eigen::Matrix3d R1_ = Eigen::Matrix3d::Identity();

@@ -55,6 +55,14 @@ struct EnumNames<GridFormat> {
   static constexpr const char* names[] = {"jdem", "geotiff", "both"};
 };
 
+/// stereo.row_offset_px: rows the rectified right image moves down to agree with the left
+/// (y_left - y_right of the rectified pair, stereo/row_offset.hpp), or `auto`: measured
+/// once from the first frames.
+struct RowOffsetSetting {
+  bool automatic = false;
+  double px = 0.0;
+};
+
 /// Largest stereo.stride validate() accepts (pixels).
 constexpr int kMaxStride = 4096;
 
@@ -125,6 +133,7 @@ struct StereoConfig {
   double band_max_slope_deg = 30.0;  ///< ground_band: wheel plane tilted up to this [deg]
   double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
   double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
+  RowOffsetSetting row_offset;      ///< stereo.row_offset_px
 };
 
 struct SensorConfig {

@@ -51,7 +51,8 @@ using KeyField =
                  std::array<int, 4>& (*)(Owner&), RuleKind& (*)(Owner&), Insertion& (*)(Owner&),
                  CcmWeighting& (*)(Owner&), RoughnessStatistic& (*)(Owner&),
                  StereoMatcher& (*)(Owner&), SgbmMode& (*)(Owner&), PreFilterType& (*)(Owner&),
-                 DisparitySearch& (*)(Owner&), SensorModel& (*)(Owner&), GridFormat& (*)(Owner&)>;
+                 DisparitySearch& (*)(Owner&), SensorModel& (*)(Owner&), GridFormat& (*)(Owner&),
+                 RowOffsetSetting& (*)(Owner&)>;
 
 /// One configuration key.
 template <class Owner>

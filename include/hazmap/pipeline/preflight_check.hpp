@@ -33,6 +33,9 @@ struct PreflightLimits {
   double max_row_error_rms_px = 0.5;
   /// Share of the rectified image with valid source pixels in both cameras.
   double min_rectified_share = 0.5;
+  /// Rectification: rows of the same feature in the two rectified images (median of
+  /// y_left - y_right over feature matches, stereo/row_offset.hpp).
+  double max_row_offset_px = 0.5;
   /// Share of pixels of the matched region with a valid disparity.
   double min_valid_disparity_share = 0.05;
   /// Share of points dropped as below the wheel plane (SPEC 3.3).
@@ -47,12 +50,25 @@ struct RowErrorCheck {
   double max_px = 0.0;
 };
 
+/// The rows of the rectified pairs compared through feature matches (no board needed),
+/// after the configured stereo.row_offset_px has been applied.
+struct RowOffsetCheck {
+  int frames = 0;            ///< frames with an estimate
+  int matches = 0;           ///< feature matches, summed over the frames
+  int inliers = 0;           ///< of those, consistent with one offset per frame
+  double offset_px = 0.0;    ///< median over the frames of y_left - y_right
+  double spread_px = 0.0;    ///< median over the frames of the matches' robust spread
+  double applied_px = 0.0;   ///< the offset the rectifier already applies
+  bool automatic = false;    ///< applied_px was measured (`auto`)
+};
+
 struct CalibrationCheck {
   cv::Size image;
   double focal_px = 0.0;     ///< of the rectified pair
   double baseline_m = 0.0;
   double rectified_share = 1.0;  ///< valid rectified region / image area
   RowErrorCheck rows;
+  RowOffsetCheck row_offset;
 };
 
 struct FrameCheck {

@@ -110,6 +110,8 @@ class PointCloudBuilder {
   /// field, cannot be matched there. Until called, every row ends at
   /// stereo.min_disparity + num_disparities (a full search); rows beyond `end_px` too.
   void set_search_end_by_row(const std::vector<int>& end_px);
+  /// The rectified right image's valid region changed (a row offset measured later).
+  void set_valid_roi_right(const cv::Rect& valid_roi_right) { roi_right_ = valid_roi_right; }
 
   /// Row v's near-field depth f B / search end [m] (0 where nothing is searched).
   double near_depth_m(int v) const {

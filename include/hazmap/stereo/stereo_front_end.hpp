@@ -76,6 +76,12 @@ class StereoFrontEnd {
   const PointCloudBuilder& builder() const { return builder_; }
 
  private:
+  /// stereo.row_offset_px `auto`: frames tried for a row-offset estimate before giving up.
+  static constexpr int kAutoRowOffsetFrames = 5;
+  /// Estimates the rectified pair's row offset and, if found, rebuilds the right map with it
+  /// and rectifies the pair again (stereo.row_offset_px `auto`, first frames only).
+  void measure_row_offset();
+
   GreyPairConverter grey_;
   Rectifier rectifier_;
   DisparityMatcher matcher_;
@@ -95,6 +101,7 @@ class StereoFrontEnd {
   std::size_t occluded_ = 0;
   std::size_t unsupported_ = 0;
   bool keep_pixels_ = true;
+  int auto_row_offset_tries_ = 0;  ///< frames left to try, 0 once measured (or not auto)
 };
 
 }  // namespace hazmap
