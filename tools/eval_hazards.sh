@@ -96,7 +96,7 @@ scenario_args() {
 default_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
 lowsun_scenarios="ls_ramp15 ls_ramp25 ls_craters ls_rocks6 ls_rocks12 ls_rocks24"
 # The low-sun keys (docs/simulator.md, "Low-sun scenes").
-lowsun_args="--lunar-polar-light --sun-elevation-deg 8 --sun-azimuth-deg 135 --noise-octaves 7 --exposure 0.6 --gain 1,1.05 --electrons-per-dn 10 --noise-sigma 2 --vignetting 0.15 --row-offset-px 0.3"
+lowsun_args="--lunar-polar-light --sun-elevation-deg 6 --sun-azimuth-deg 135 --terrain-resolution 0.005 --noise-octaves 9 --noise-gain 0.55 --exposure 1.3 --gain 1,1.05 --electrons-per-dn 10 --noise-sigma 2 --vignetting 0.15 --row-offset-px 0.3"
 
 # ---------------------------------------------------------------------------------------
 # Jobs (run through xargs, possibly in parallel). Each writes OUT/logs/<name>.log and
