@@ -8,6 +8,8 @@
 //     the rows below ROI_TOP_FRACTION of the height (the ground; default 0.45).
 //   image_stats montage OUT.png HEIGHT A.png B.png [C.png ...]
 //     the images side by side, each scaled to HEIGHT rows, 4 px white gaps.
+//   image_stats resize IN.png OUT.png FACTOR
+//     IN scaled by FACTOR (area averaging).
 //   image_stats hist OUT.png ROI_TOP_FRACTION A.png B.png
 //     the two grey-level histograms (ground rows) as a 512 x 200 plot: A white, B grey.
 
@@ -124,6 +126,15 @@ int hist_plot(int argc, char** argv) {
   return cv::imwrite(argv[2], plot) ? 0 : 1;
 }
 
+int resize(int argc, char** argv) {
+  if (argc < 5) return 2;
+  const cv::Mat image = load_grey8(argv[2]);
+  const double f = std::atof(argv[4]);
+  cv::Mat out;
+  cv::resize(image, out, cv::Size(), f, f, cv::INTER_AREA);
+  return cv::imwrite(argv[3], out) ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -132,6 +143,7 @@ int main(int argc, char** argv) {
   if (mode == "stats") rc = stats(argc, argv);
   if (mode == "montage") rc = montage(argc, argv);
   if (mode == "hist") rc = hist_plot(argc, argv);
+  if (mode == "resize") rc = resize(argc, argv);
   if (rc == 2) std::fprintf(stderr, "usage: see the comment at the top of image_stats.cpp\n");
   return rc;
 }
