@@ -96,7 +96,7 @@ scenario_args() {
 default_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
 lowsun_scenarios="ls_ramp15 ls_ramp25 ls_craters ls_rocks6 ls_rocks12 ls_rocks24"
 # The low-sun keys (docs/simulator.md, "Low-sun scenes").
-lowsun_args="--lunar-polar-light --sun-elevation-deg 6 --sun-azimuth-deg 135 --terrain-resolution 0.005 --noise-octaves 9 --noise-gain 0.55 --exposure 1.3 --gain 1,1.05 --electrons-per-dn 10 --noise-sigma 2 --vignetting 0.15 --row-offset-px 0.3"
+lowsun_args="--lunar-polar-light --sun-elevation-deg 6 --sun-azimuth-deg 135 --terrain-resolution 0.005 --noise-octaves 9 --noise-gain 0.55 --exposure 0.6 --gain 1,1.05 --electrons-per-dn 10 --noise-sigma 2 --vignetting 0.15 --row-offset-px 0.3"
 
 # ---------------------------------------------------------------------------------------
 # Jobs (run through xargs, possibly in parallel). Each writes OUT/logs/<name>.log and
@@ -255,6 +255,41 @@ for n in "${names[@]}"; do
     done
   } | tee -a "$tables"
 done
+# 4. One summary line per stack, as in the README's tables (OUT/summary.md): fused and
+# footprint false alarms on the traversable scenes (ramp 15, craters, sine), the fused
+# map's missed obstacle area over every scene, and the fused rock recall near the rover.
+pre=""
+[ "$scene_set" = lowsun ] && pre="ls_"
+summary="$out/summary.md"
+{
+  echo "| stack | fused FA: ramp 15 / craters / sine | footprint FA: ramp 15 / craters / sine | fused missed (all scenes) | rock recall <= ${near} m: 6 / 12 / 24 cm |"
+  echo "|---|---:|---:|---:|---:|"
+  for n in "${names[@]}"; do
+    field() {  # field SCENE LAYER COLUMN SCALE FORMAT
+      local csv="$out/$n/$1/eval/summary.csv"
+      [ -f "$csv" ] || { echo "-"; return; }
+      awk -F, -v layer="$2" -v key="$3" -v scale="$4" -v fmt="$5" '
+        NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+        $(col["layer"]) == layer { x = $(col[key]); if (x == "nan" || x == "") print "-"; else printf fmt "\n", x * scale; found = 1 }
+        END { if (!found) print "-" }' "$csv"
+    }
+    fa() { local a=() s; for s in ramp15 craters sine; do
+        [[ " $scenarios " == *" $pre$s "* ]] && a+=("$(field "$pre$s" "$1" false_alarm_fraction 100 %.2g)"); done
+      local IFS=/; echo "${a[*]} %" | sed 's|/| / |g'; }
+    missed=0
+    for s in $scenarios; do
+      m="$(field "$s" fused missed_m2 1e4 %.1f)"
+      [ "$m" = "-" ] || missed="$(awk -v a="$missed" -v b="$m" 'BEGIN { print a + b }')"
+    done
+    rec=()
+    for r in 6 12 24; do
+      [[ " $scenarios " == *" ${pre}rocks$r "* ]] && rec+=("$(field "${pre}rocks$r" fused near_hazard_recall 100 %.0f)")
+    done
+    recall="$(IFS=/; echo "${rec[*]} %" | sed 's|/| / |g')"
+    echo "| \`$n\` | $(fa fused) | $(fa footprint) | $missed cm^2 | $recall |"
+  done
+} >"$summary"
+cat "$summary"
 echo
-echo "eval_hazards: tables in $tables; per-run reports in $out/<config>/<scenario>/eval/report.html"
+echo "eval_hazards: tables in $tables, summary in $summary; per-run reports in $out/<config>/<scenario>/eval/report.html"
 exit "$status"
