@@ -274,7 +274,7 @@ summary="$out/summary.md"
         END { if (!found) print "-" }' "$csv"
     }
     fa() { local a=() s; for s in ramp15 craters sine; do
-        [[ " $scenarios " == *" $pre$s "* ]] && a+=("$(field "$pre$s" "$1" false_alarm_fraction 100 %.2g)"); done
+        [[ " $scenarios " == *" $pre$s "* ]] && a+=("$(field "$pre$s" "$1" false_alarm_fraction 100 %.3g)"); done
       local IFS=/; echo "${a[*]} %" | sed 's|/| / |g'; }
     missed=0
     for s in $scenarios; do
