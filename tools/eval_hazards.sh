@@ -5,6 +5,7 @@
 #
 #   tools/eval_hazards.sh config/cadre_flight.yaml config/thesis_ccm.yaml out/eval_hazards
 #   tools/eval_hazards.sh --jobs 2 --frames 15 config/default.yaml out/eh
+#   tools/eval_hazards.sh --scenes lowsun --matchers bm,sgbm config/cadre_flight.yaml out/ls
 #
 # Scenarios (seeds 901.. that no test uses; --seed-base moves them), 0.4 image scale,
 # 4 cm per frame, with depth images (simulate --depth) for the seen-cell tables:
@@ -13,6 +14,11 @@
 #   sine             sine wave (steepest slope 17.4 deg)
 #   rocks3..rocks24  hemispherical rocks of radius (= height) 3, 6, 12, 24 cm, unburied,
 #                    beside the path (15 cm clear of it, as tools/sweep.sh lays them out)
+# --scenes lowsun (issue 33): ls_ramp15, ls_ramp25, ls_craters, ls_rocks6, ls_rocks12,
+#   ls_rocks24: the same terrains (seeds 911..) under lunar polar light and imperfect
+#   cameras (the low-sun keys below, the POLAR-matched ones of docs/simulator.md).
+# --matchers bm,sgbm maps every config with each matcher (stereo.matcher=M; folders
+#   <config>_<matcher>); adding a matcher is one more word in the list.
 #
 # Layout of OUT: seq/<scenario>/ (sequences, cached: re-rendered only when their
 # simulate arguments change), <config>/<scenario>/ (the run; eval/ inside it),
@@ -47,8 +53,11 @@ Options:
   --scale S        image scale (default 0.4)
   --near R         radius of the near metrics in metres (default 1.5)
   --jobs N         parallel jobs (default 1: the machine is shared)
-  --only LIST      comma-separated scenarios (default: all eight)
-  --seed-base N    seeds N, N+1, ... for the scenarios in the order above (default 901)
+  --only LIST      comma-separated scenarios (default: all of the scene set)
+  --seed-base N    seeds N, N+1, ... for the scenarios in the order above (default 901;
+                   the low-sun scenes use N+10 ..)
+  --scenes SET     default (the eight above) | lowsun (the six low-sun scenes)
+  --matchers LIST  comma-separated stereo matchers, e.g. bm,sgbm (default: each config's own)
   --hazmap BIN     the hazmap executable (default $HAZMAP or build/hazmap)
   --tables-only    print the tables of what OUT already holds
 EOF
@@ -74,10 +83,25 @@ scenario_args() {
         n = r < 0.15 ? 4 : (r < 0.3 ? 3 : 2);
         printf "--scenario rocks --seed %d --rock-radius %.4f --rock-buried 0 --rock-count %d --rock-box %.4f,%.4f,%.4f --rock-clearance 0.15 --gt-margin 3\n", seed, r, n, x0, x1, y }'
       ;;
+    ls_*)
+      # Low sun: the terrain of the default scene (another seed), lunar polar light from
+      # behind-left, regolith albedo, fine relief, noisy cameras with a small row offset.
+      local base seed
+      case "$1" in
+        ls_ramp15) seed=$((b + 10)) ;; ls_ramp25) seed=$((b + 11)) ;; ls_craters) seed=$((b + 12)) ;;
+        ls_rocks6) seed=$((b + 15)) ;; ls_rocks12) seed=$((b + 16)) ;; ls_rocks24) seed=$((b + 17)) ;;
+        *) echo "eval_hazards: unknown scenario '$1'" >&2; return 1 ;;
+      esac
+      base="$(scenario_args "${1#ls_}" "$b")" || return 1
+      echo "$(sed "s/--seed [0-9]*/--seed $seed/" <<<"$base") $lowsun_args"
+      ;;
     *) echo "eval_hazards: unknown scenario '$1'" >&2; return 1 ;;
   esac
 }
-all_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
+default_scenarios="ramp15 ramp25 craters sine rocks3 rocks6 rocks12 rocks24"
+lowsun_scenarios="ls_ramp15 ls_ramp25 ls_craters ls_rocks6 ls_rocks12 ls_rocks24"
+# The low-sun keys (docs/simulator.md, "Low-sun scenes").
+lowsun_args="--lunar-polar-light --sun-elevation-deg 6 --sun-azimuth-deg 135 --terrain-resolution 0.005 --noise-octaves 9 --noise-gain 0.55 --exposure 0.6 --gain 1,1.05 --electrons-per-dn 10 --noise-sigma 2 --vignetting 0.15 --row-offset-px 0.3"
 
 # ---------------------------------------------------------------------------------------
 # Jobs (run through xargs, possibly in parallel). Each writes OUT/logs/<name>.log and
@@ -104,13 +128,15 @@ if [ "${1:-}" = "--sim-job" ]; then
   exit 0
 fi
 if [ "${1:-}" = "--map-job" ]; then
-  hazmap="$2" out="$3" near="$4" name="$5" config="$6" scenario="$7"
+  hazmap="$2" out="$3" near="$4" name="$5" config="$6" matcher="$7" scenario="$8"
+  set_matcher=()
+  [ "$matcher" = "-" ] || set_matcher=(--set "stereo.matcher=$matcher")
   dir="$out/$name/$scenario"
   log="$out/logs/${name}_$scenario.log"
   rm -rf "$dir"
   start=$(date +%s)
   # The reasons for unknown cells (output.unknown_reasons) only add files.
-  if "$hazmap" run --config "$config" --sequence "$out/seq/$scenario" --out "$dir" --quiet \
+  if "$hazmap" run --config "$config" "${set_matcher[@]+"${set_matcher[@]}"}" --sequence "$out/seq/$scenario" --out "$dir" --quiet \
     --set output.unknown_reasons=true >"$log" 2>&1 &&
     "$hazmap" evaluate --run "$dir" --sequence "$out/seq/$scenario" --near "$near" --quiet >>"$log" 2>&1; then
     echo "eval_hazards: $name on $scenario done in $(($(date +%s) - start)) s$(progress_note)"
@@ -124,6 +150,7 @@ fi
 
 # ---------------------------------------------------------------------------------------
 frames=30 scale=0.4 near=1.5 jobs=1 only="" seed_base=901 hazmap="${HAZMAP:-$repo/build/hazmap}" tables_only=0
+scene_set=default matchers=""
 positional=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -133,6 +160,8 @@ while [ $# -gt 0 ]; do
     --jobs) jobs="$2"; shift ;;
     --only) only="$2"; shift ;;
     --seed-base) seed_base="$2"; shift ;;
+    --scenes) scene_set="$2"; shift ;;
+    --matchers) matchers="$2"; shift ;;
     --hazmap) hazmap="$2"; shift ;;
     --tables-only) tables_only=1 ;;
     -h | --help) usage; exit 0 ;;
@@ -147,6 +176,11 @@ if [ "${#positional[@]}" -lt 2 ]; then
 fi
 out="${positional[-1]}"
 configs=("${positional[@]:0:${#positional[@]}-1}")
+case "$scene_set" in
+  default) all_scenarios="$default_scenarios" ;;
+  lowsun) all_scenarios="$lowsun_scenarios" ;;
+  *) echo "eval_hazards: --scenes expects default or lowsun" >&2; exit 2 ;;
+esac
 scenarios="${only//,/ }"
 : "${scenarios:=$all_scenarios}"
 for s in $scenarios; do scenario_args "$s" "$seed_base" >/dev/null || exit 2; done
@@ -155,17 +189,25 @@ hazmap="$(cd "$(dirname "$hazmap")" && pwd)/$(basename "$hazmap")"
 mkdir -p "$out/logs"
 out="$(cd "$out" && pwd)"
 
-# Configuration names: file stems, which must differ (they name the output folders).
-names=()
+# Stack names: config file stems (which must differ: they name the output folders), with
+# _<matcher> appended for each of --matchers.
+names=() stack_configs=() stack_matchers=()
+matchers="${matchers//,/ }"
 for c in "${configs[@]}"; do
   [ -f "$c" ] || { echo "eval_hazards: no config file $c" >&2; exit 2; }
   n="$(basename "$c")"
   n="${n%.yaml}"
   n="${n%.yml}"
-  for m in "${names[@]+"${names[@]}"}"; do
-    [ "$m" != "$n" ] || { echo "eval_hazards: two configs named $n" >&2; exit 2; }
+  for m in ${matchers:--}; do
+    name="$n"
+    [ "$m" = "-" ] || name="${n}_$m"
+    for existing in "${names[@]+"${names[@]}"}"; do
+      [ "$existing" != "$name" ] || { echo "eval_hazards: two configs named $n" >&2; exit 2; }
+    done
+    names+=("$name")
+    stack_configs+=("$c")
+    stack_matchers+=("$m")
   done
-  names+=("$n")
 done
 
 status=0
@@ -177,14 +219,16 @@ if [ "$tables_only" = 0 ]; then
     xargs -0 -I{} -P "$jobs" "$self" --sim-job "$hazmap" "$out" "$common" {} "$seed_base" || status=1
   # 2. Maps and evaluations: every config on every scenario that has a sequence.
   n_maps=0
-  for s in $scenarios; do [ -f "$out/seq/$s/.done" ] && n_maps=$((n_maps + ${#configs[@]})); done
+  for s in $scenarios; do [ -f "$out/seq/$s/.done" ] && n_maps=$((n_maps + ${#names[@]})); done
   progress_start "$out/.progress/maps" "$n_maps"
-  for i in "${!configs[@]}"; do
-    cfg="$(cd "$(dirname "${configs[$i]}")" && pwd)/$(basename "${configs[$i]}")"
+  for i in "${!names[@]}"; do
+    cfg="$(cd "$(dirname "${stack_configs[$i]}")" && pwd)/$(basename "${stack_configs[$i]}")"
     for s in $scenarios; do
-      if [ -f "$out/seq/$s/.done" ]; then printf '%s\0%s\0%s\0' "${names[$i]}" "$cfg" "$s"; fi
+      if [ -f "$out/seq/$s/.done" ]; then
+        printf '%s\0%s\0%s\0%s\0' "${names[$i]}" "$cfg" "${stack_matchers[$i]}" "$s"
+      fi
     done
-  done | xargs -0 -n 3 -P "$jobs" "$self" --map-job "$hazmap" "$out" "$near" || status=1
+  done | xargs -0 -n 4 -P "$jobs" "$self" --map-job "$hazmap" "$out" "$near" || status=1
 fi
 
 # 3. Tables from each run's eval/summary.csv (columns found by name).
@@ -257,6 +301,41 @@ for n in "${names[@]}"; do
     done
   } | tee -a "$tables"
 done
+# 5. One summary line per stack, as in the README's tables (OUT/summary.md): fused and
+# footprint false alarms on the traversable scenes (ramp 15, craters, sine), the fused
+# map's missed obstacle area over every scene, and the fused rock recall near the rover.
+pre=""
+[ "$scene_set" = lowsun ] && pre="ls_"
+summary="$out/summary.md"
+{
+  echo "| stack | fused FA: ramp 15 / craters / sine | footprint FA: ramp 15 / craters / sine | fused missed (all scenes) | rock recall <= ${near} m: 6 / 12 / 24 cm |"
+  echo "|---|---:|---:|---:|---:|"
+  for n in "${names[@]}"; do
+    field() {  # field SCENE LAYER COLUMN SCALE FORMAT
+      local csv="$out/$n/$1/eval/summary.csv"
+      [ -f "$csv" ] || { echo "-"; return; }
+      awk -F, -v layer="$2" -v key="$3" -v scale="$4" -v fmt="$5" '
+        NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+        $(col["layer"]) == layer { x = $(col[key]); if (x == "nan" || x == "") print "-"; else printf fmt "\n", x * scale; found = 1 }
+        END { if (!found) print "-" }' "$csv"
+    }
+    fa() { local a=() s; for s in ramp15 craters sine; do
+        [[ " $scenarios " == *" $pre$s "* ]] && a+=("$(field "$pre$s" "$1" false_alarm_fraction 100 %.3g)"); done
+      local IFS=/; echo "${a[*]} %" | sed 's|/| / |g'; }
+    missed=0
+    for s in $scenarios; do
+      m="$(field "$s" fused missed_m2 1e4 %.1f)"
+      [ "$m" = "-" ] || missed="$(awk -v a="$missed" -v b="$m" 'BEGIN { print a + b }')"
+    done
+    rec=()
+    for r in 6 12 24; do
+      [[ " $scenarios " == *" ${pre}rocks$r "* ]] && rec+=("$(field "${pre}rocks$r" fused near_hazard_recall 100 %.0f)")
+    done
+    recall="$(IFS=/; echo "${rec[*]} %" | sed 's|/| / |g')"
+    echo "| \`$n\` | $(fa fused) | $(fa footprint) | $missed cm^2 | $recall |"
+  done
+} >"$summary"
+cat "$summary"
 echo
-echo "eval_hazards: tables in $tables; per-run reports in $out/<config>/<scenario>/eval/report.html"
+echo "eval_hazards: tables in $tables, summary in $summary; per-run reports in $out/<config>/<scenario>/eval/report.html"
 exit "$status"

@@ -19,7 +19,8 @@ const char* kSimulateUsage =
 
 Renders a synthetic sequence in the SPEC 2 layout (left/, right/, calibration.yaml,
 poses.txt, simulation.yaml): CADRE camera geometry (1600 x 1300, f = 671 px, B = 5 cm,
-15 cm above the ground, view top 10 deg above the horizon) at --scale (0.4: 640 x 520).
+15 cm above the ground, view top 10 deg above the horizon) at --scale (0.4: 640 x 520),
+or the POLAR Traverse pair (--rig polar).
 
 Scenario and terrain (1 cm detail grid):
   --scenario NAME        flat | ramp | sine | rocks | craters (default rocks)
@@ -56,8 +57,28 @@ Cameras and rendering:
   --distortion K1,K2,P1,P2,K3   explicit distortion of both lenses
   --misalign             right camera 0.3,-0.2,0.4 deg and 0.5,-0.3,0.4 mm off
   --misalignment R,P,Y,X,Y,Z    explicit (deg, m); either makes calibration.yaml unrectified
+  --rig cadre|polar      camera pair: CADRE (default) or POLAR Traverse (2048 x 2048 at
+                         scale 1, f = 1457 px, B = 0.40 m, 1.30 m up, 28 deg down)
   --samples N            rays per pixel and axis (default 2)
-  --noise-sigma DN       image noise (default 1), --no-sun: no Lambertian sun shading
+  --noise-sigma DN       read noise (default 1), --no-sun: no Lambertian sun shading
+  --gain G[,G_RIGHT]     camera gain (default 1); --exposure E[,E_RIGHT] relative exposure (1);
+  --offset-dn D[,D_RIGHT]  black level (0). One value: both cameras; two: left, right
+  --electrons-per-dn E   shot noise: variance signal / E DN^2 (default 0: none)
+  --vignetting F         brightness falls by F at the image corners (default 0)
+  --bits 8|12            quantisation (12: 16-bit PNG holding value x 16; default 8)
+  --row-offset-px P      residual row offset after rectification: y_left - y_right (0)
+Light and surface:
+  --sun-elevation-deg D  (default 30), --sun-azimuth-deg D from +x towards +y (default 110)
+  --lunar-polar-light    preset: sun 8 deg up, ground shadows, no ambient, regolith albedo,
+                         opposition surge 0.3 (options given with it override its values)
+  --terrain-shadows      shadows of the ground (craters, ridges) too, traced towards the sun
+  --ambient A            fraction of light reaching shadows (default 0.25; Moon: ~0)
+  --albedo value_noise|regolith   texture model (default value_noise: strong at every scale)
+  --albedo-contrast C    relative std of the albedo (value_noise 0.45, regolith 0.05)
+  --albedo-correlation M regolith: shortest wavelength with contrast (default 0.05 m)
+  --opposition-surge A   brighter by 1 + A exp(-phase / width) (default 0), --opposition-width-deg W (6)
+  --noise-octaves N, --noise-wavelength M, --noise-gain G   fractal ground relief (5, 2.0, 0.5)
+  --terrain-resolution M detail grid spacing (default 0.01)
 Outputs:
   --ground-truth         gt_height.jdem and gt_hazard.jdem over the path +- --gt-margin M (2)
   --depth                depth/<name>.tiff: float32 Z [m] in the left camera, NaN sky
@@ -147,9 +168,13 @@ int cmd_simulate(int argc, char** argv) {
        "rock-exponent", "rock-box", "rock-buried", "rock-clearance", "crater-count",
        "crater-density", "crater-radius", "crater-sizes", "crater-exponent", "crater-box",
        "crater-depth", "crater-rim", "path", "waypoint-spacing", "max-turn-deg", "wheelbase",
-       "track", "drift", "drift-direction-deg", "distortion", "misalignment"},
+       "track", "drift", "drift-direction-deg", "distortion", "misalignment", "rig", "gain",
+       "exposure", "offset-dn", "electrons-per-dn", "vignetting", "bits", "row-offset-px",
+       "sun-elevation-deg", "sun-azimuth-deg", "ambient", "albedo", "albedo-contrast",
+       "albedo-correlation", "opposition-surge", "opposition-width-deg", "noise-octaves",
+       "noise-wavelength", "noise-gain", "terrain-resolution"},
       {"ground-truth", "no-sun", "quiet", "depth", "scatter-rocks", "distort", "misalign",
-       "overwrite"});
+       "overwrite", "lunar-polar-light", "terrain-shadows"});
   hazmap::sim::SimulationOptions options;
   options.scenario = args.get("scenario", options.scenario);
   const std::filesystem::path out = args.required("out");
@@ -211,6 +236,52 @@ int cmd_simulate(int argc, char** argv) {
     options.rig_errors.misalignment_rpy_deg = Eigen::Vector3d(m[0], m[1], m[2]);
     options.rig_errors.misalignment_m = Eigen::Vector3d(m[3], m[4], m[5]);
   }
+
+  // Light, surface and cameras (the preset first; explicit options override it).
+  options.rig = args.get("rig", options.rig);
+  if (args.on("lunar-polar-light")) sim::apply_lunar_polar_light(options.render);
+  if (args.has("sun-elevation-deg"))
+    options.render.sun_elevation_deg = args.number("sun-elevation-deg");
+  if (args.has("sun-azimuth-deg")) options.render.sun_azimuth_deg = args.number("sun-azimuth-deg");
+  if (args.on("terrain-shadows")) options.render.terrain_shadows = true;
+  if (args.has("ambient")) options.render.ambient = args.number("ambient");
+  if (args.has("albedo"))
+    options.render.albedo_model = sim::parse_albedo_model(args.get("albedo"), "--albedo");
+  if (args.has("albedo-contrast")) {
+    (options.render.albedo_model == sim::AlbedoModel::regolith ? options.render.regolith_contrast
+                                                               : options.render.texture_contrast) =
+        args.number("albedo-contrast");
+  }
+  if (args.has("albedo-correlation"))
+    options.render.regolith_correlation_m = args.number("albedo-correlation");
+  if (args.has("opposition-surge")) options.render.opposition_surge = args.number("opposition-surge");
+  if (args.has("opposition-width-deg"))
+    options.render.opposition_width_deg = args.number("opposition-width-deg");
+  if (args.has("noise-octaves"))
+    options.ground_noise.octaves = static_cast<int>(args.whole("noise-octaves", 0, 12));
+  if (args.has("noise-wavelength")) options.ground_noise.wavelength_m = args.number("noise-wavelength");
+  if (args.has("noise-gain")) options.ground_noise.gain = args.number("noise-gain");
+  if (args.has("terrain-resolution"))
+    options.terrain_resolution_m = args.number("terrain-resolution");
+  // Per-camera values: "V" for both cameras or "L,R".
+  auto per_camera = [&](const std::string& flag, double sim::CameraResponse::*member) {
+    if (!args.has(flag)) return;
+    const bool two = args.get(flag).find(',') != std::string::npos;
+    const auto v = numbers(args, flag, two ? 2 : 1);
+    options.left_response.*member = v[0];
+    options.right_response.*member = v[two ? 1 : 0];
+  };
+  per_camera("gain", &sim::CameraResponse::gain);
+  per_camera("exposure", &sim::CameraResponse::exposure);
+  per_camera("offset-dn", &sim::CameraResponse::offset_dn);
+  per_camera("electrons-per-dn", &sim::CameraResponse::electrons_per_dn);
+  per_camera("vignetting", &sim::CameraResponse::vignetting);
+  if (args.has("bits")) {
+    const int bits = static_cast<int>(args.whole("bits", 8, 12));
+    if (bits != 8 && bits != 12) throw UsageError("--bits expects 8 or 12");
+    options.left_response.bits = options.right_response.bits = bits;
+  }
+  if (args.has("row-offset-px")) options.row_offset_px = args.number("row-offset-px");
 
   // Files of two sequences never mix in one folder (a stale poses_true.txt would be read
   // as this sequence's true poses): the rule of hazmap run's OUT, for what simulate writes.

@@ -21,6 +21,14 @@ constexpr int kMaxBisections = 100;
 constexpr double kValueNoise2dStd = 0.455;
 constexpr double kValueNoise3dStd = 0.40;
 
+// Regolith albedo: octaves from the correlation length upwards, each twice the amplitude
+// of the next shorter one (a red spectrum: little contrast at small scales).
+constexpr int kRegolithOctaves = 6;
+
+// Shadow rays start this far off the surface along its normal, so that the surface they
+// leave does not shadow itself through rounding (0.1 mm: far below a terrain cell).
+constexpr double kShadowBiasM = 1e-4;
+
 // Band-limiting: an octave of wavelength lambda is fully present when lambda >= 3
 // footprints and absent below 1.5 footprints (linear fade between).
 inline double octave_weight(double wavelength_m, double footprint_m) {
@@ -48,6 +56,28 @@ inline double ray_sphere_entry(const Eigen::Vector3d& o, const Eigen::Vector3d& 
 }
 
 }  // namespace
+
+AlbedoModel parse_albedo_model(const std::string& name, const std::string& what) {
+  if (name == "value_noise") return AlbedoModel::value_noise;
+  if (name == "regolith") return AlbedoModel::regolith;
+  throw Error(what + ": unknown albedo model '" + name + "' (value_noise | regolith)");
+}
+
+const char* albedo_model_name(AlbedoModel model) {
+  return model == AlbedoModel::regolith ? "regolith" : "value_noise";
+}
+
+void validate(const CameraResponse& response) {
+  check(response.bits == 8 || response.bits == 12, "camera: bits must be 8 or 12");
+  check(response.gain > 0.0 && response.exposure > 0.0 && std::isfinite(response.gain) &&
+            std::isfinite(response.exposure),
+        "camera: camera gain and exposure must be positive");
+  check(std::isfinite(response.offset_dn), "camera: camera offset must be finite");
+  check(response.electrons_per_dn >= 0.0 && std::isfinite(response.electrons_per_dn),
+        "camera: electrons_per_dn must be >= 0");
+  check(response.vignetting >= 0.0 && response.vignetting < 1.0,
+        "camera: vignetting must be in [0, 1)");
+}
 
 std::optional<RayHit> cast_ray(const Terrain& terrain, const Eigen::Vector3d& origin_W,
                                const Eigen::Vector3d& direction_W,
@@ -150,6 +180,14 @@ Renderer::Renderer(const Terrain& terrain, const RenderOptions& options,
         "render: sun_elevation_deg must be in (0, 90]");
   check(options.noise_sigma_dn >= 0.0, "render: noise_sigma_dn must be >= 0");
   check(options.exposure_dn > 0.0, "render: exposure_dn must be positive");
+  check(options.regolith_contrast >= 0.0 && std::isfinite(options.regolith_contrast),
+        "render: regolith_contrast must be >= 0");
+  check(options.regolith_correlation_m > 0.0 && options.regolith_correlation_m <= 100.0,
+        "render: regolith_correlation_m must be in (0, 100] m");
+  check(options.opposition_surge >= 0.0 && options.opposition_surge <= 10.0,
+        "render: opposition_surge must be in [0, 10]");
+  check(options.opposition_width_deg > 0.0 && options.opposition_width_deg <= 90.0,
+        "render: opposition_width_deg must be in (0, 90]");
 
   const double el = options.sun_elevation_deg * kPi / 180.0;
   const double az = options.sun_azimuth_deg * kPi / 180.0;
@@ -164,18 +202,32 @@ double Renderer::albedo(const RayHit& hit, double footprint_m) const {
   const std::uint64_t key =
       rock ? hash_combine(texture_seed_, 1000 + static_cast<std::uint64_t>(hit.rock_index))
            : texture_seed_;
+  const bool regolith = options_.albedo_model == AlbedoModel::regolith;
+  const int octaves = regolith ? kRegolithOctaves : options_.texture_octaves;
+  double wavelength_m =
+      regolith ? options_.regolith_correlation_m : options_.texture_min_wavelength_m;
+  // Octave amplitudes: equal (value_noise) or doubling with the wavelength (regolith);
+  // normalised so that the sum has unit variance when every octave is present.
+  double amplitude = 1.0;
   double sum = 0.0;
-  double wavelength_m = options_.texture_min_wavelength_m;
-  for (int k = 0; k < options_.texture_octaves; ++k, wavelength_m *= 2.0) {
+  double sum_sq_amplitudes = 0.0;
+  for (int k = 0; k < octaves; ++k, wavelength_m *= 2.0) {
+    if (regolith && k > 0) amplitude *= 2.0;
+    sum_sq_amplitudes += amplitude * amplitude;
     const double w = octave_weight(wavelength_m, footprint_m);
     if (w <= 0.0) continue;
     const std::uint64_t octave_key = hash_combine(key, static_cast<std::uint64_t>(k));
     const Eigen::Vector3d q = hit.p_W / wavelength_m;
-    sum += w * (rock ? value_noise_3d(q.x(), q.y(), q.z(), octave_key) / kValueNoise3dStd
-                     : value_noise_2d(q.x(), q.y(), octave_key) / kValueNoise2dStd);
+    sum += amplitude * w *
+           (rock ? value_noise_3d(q.x(), q.y(), q.z(), octave_key) / kValueNoise3dStd
+                 : value_noise_2d(q.x(), q.y(), octave_key) / kValueNoise2dStd);
+  }
+  const double mean = rock ? options_.rock_albedo : options_.ground_albedo;
+  if (regolith) {
+    const double n = std::sqrt(sum_sq_amplitudes);
+    return std::max(0.0, mean * (1.0 + options_.regolith_contrast * sum / n));
   }
   const double n = options_.texture_octaves > 0 ? std::sqrt(options_.texture_octaves) : 1.0;
-  const double mean = rock ? options_.rock_albedo : options_.ground_albedo;
   return std::max(0.0, mean * (1.0 + options_.texture_contrast * sum / n));
 }
 
@@ -204,29 +256,63 @@ bool Renderer::in_rock_shadow(const RayHit& hit) const {
   return shadowed;
 }
 
-double Renderer::radiance(const RayHit& hit, double footprint_m) const {
+bool Renderer::in_terrain_shadow(const RayHit& hit) const {
+  const Eigen::Vector3d o = hit.p_W + kShadowBiasM * hit.normal_W;
+  // Above the highest ground and rock top nothing can block the sun: that bounds the ray.
+  const double top_z =
+      std::max(terrain_.max_ground_height_m(), terrain_.rock_grid().max_top_z_m());
+  RayCastOptions shadow_ray = options_.ray_cast;
+  if (std::isfinite(top_z)) {
+    if (o.z() >= top_z) return false;
+    shadow_ray.max_range_m = std::min(shadow_ray.max_range_m, (top_z - o.z()) / sun_W_.z());
+  }
+  return cast_ray(terrain_, o, sun_W_, shadow_ray).has_value();
+}
+
+bool Renderer::in_shadow(const RayHit& hit) const {
+  if (options_.terrain_shadows) return in_terrain_shadow(hit);
+  return options_.cast_shadows && in_rock_shadow(hit);
+}
+
+double Renderer::radiance(const RayHit& hit, double footprint_m,
+                          const Eigen::Vector3d* view_W) const {
   double shading = flat_shading_;
   if (options_.sun_shading) {
     double direct = std::max(0.0, hit.normal_W.dot(sun_W_));
-    if (direct > 0.0 && options_.cast_shadows && in_rock_shadow(hit)) direct = 0.0;
+    if (direct > 0.0 && in_shadow(hit)) direct = 0.0;
     shading = options_.ambient + (1.0 - options_.ambient) * direct;
   }
-  return options_.exposure_dn * albedo(hit, footprint_m) * shading / flat_shading_;
+  double value = options_.exposure_dn * albedo(hit, footprint_m) * shading / flat_shading_;
+  if (options_.opposition_surge > 0.0 && view_W != nullptr) {
+    const double phase_rad = std::acos(std::clamp(view_W->dot(sun_W_), -1.0, 1.0));
+    const double width_rad = options_.opposition_width_deg * kPi / 180.0;
+    value *= 1.0 + options_.opposition_surge * std::exp(-phase_rad / width_rad);
+  }
+  return value;
 }
 
 cv::Mat Renderer::render(const PinholeCamera& camera, const Pose3d& T_W_C,
-                         std::uint64_t noise_key) const {
+                         std::uint64_t noise_key, const CameraResponse& response) const {
   check(camera.width_px > 0 && camera.height_px > 0 && camera.fx_px > 0.0 && camera.fy_px > 0.0,
         "render: camera needs a positive size and focal length");
-  cv::Mat image(camera.height_px, camera.width_px, CV_8UC1);
+  validate(response);
+  const bool legacy = response.is_identity();
+  const bool twelve_bit = response.bits == 12;
+  cv::Mat image(camera.height_px, camera.width_px, twelve_bit ? CV_16UC1 : CV_8UC1);
   const int n = options_.samples_per_axis;
   const Eigen::Matrix3d R_W_C = T_W_C.linear();
   const Eigen::Vector3d o_W = T_W_C.translation();
   const double sample_angle_rad = 1.0 / (std::min(camera.fx_px, camera.fy_px) * n);
+  const double max_dn = twelve_bit ? 4095.0 : 255.0;
+  const double scale = response.gain * response.exposure;
+  // Vignetting: radius squared of the farthest image corner from the principal point.
+  const double corner_x = std::max(camera.cx_px + 0.5, camera.width_px - 0.5 - camera.cx_px);
+  const double corner_y = std::max(camera.cy_px + 0.5, camera.height_px - 0.5 - camera.cy_px);
+  const double corner_r2 = corner_x * corner_x + corner_y * corner_y;
+  const double read_var = options_.noise_sigma_dn * options_.noise_sigma_dn;
 
   cv::parallel_for_(cv::Range(0, camera.height_px), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
-      auto* out = image.ptr<unsigned char>(v);
       for (int u = 0; u < camera.width_px; ++u) {
         double sum_dn = 0.0;
         for (int sy = 0; sy < n; ++sy) {
@@ -241,13 +327,32 @@ cv::Mat Renderer::render(const PinholeCamera& camera, const Pose3d& T_W_C,
             const double cos_incidence = std::max(std::abs(d_W.dot(hit->normal_W)), 0.05);
             const double footprint_m =
                 hit->range_m * sample_angle_rad / d_C.norm() / cos_incidence;
-            sum_dn += radiance(*hit, footprint_m);
+            const Eigen::Vector3d view_W = -d_W;
+            sum_dn += radiance(*hit, footprint_m, &view_W);
           }
         }
         const std::uint64_t pixel = static_cast<std::uint64_t>(v) * camera.width_px + u;
-        const double noise_dn =
-            options_.noise_sigma_dn * gaussian_from_hash(hash_combine(noise_key, pixel));
-        out[u] = cv::saturate_cast<unsigned char>(sum_dn / (n * n) + noise_dn);
+        const double gauss = gaussian_from_hash(hash_combine(noise_key, pixel));
+        if (legacy) {  // the images of earlier versions, bit for bit
+          image.ptr<unsigned char>(v)[u] =
+              cv::saturate_cast<unsigned char>(sum_dn / (n * n) + options_.noise_sigma_dn * gauss);
+          continue;
+        }
+        double signal_dn = scale * sum_dn / (n * n);
+        if (response.vignetting > 0.0) {
+          const double du = u - camera.cx_px;
+          const double dv = v - camera.cy_px;
+          signal_dn *= 1.0 - response.vignetting * (du * du + dv * dv) / corner_r2;
+        }
+        const double shot_var =
+            response.electrons_per_dn > 0.0 ? signal_dn / response.electrons_per_dn : 0.0;
+        const double dn = std::clamp(
+            std::round(signal_dn + response.offset_dn + std::sqrt(read_var + shot_var) * gauss),
+            0.0, max_dn);
+        if (twelve_bit)  // left-justified in 16 bits, as 12-bit cameras deliver them
+          image.ptr<std::uint16_t>(v)[u] = static_cast<std::uint16_t>(dn * 16.0);
+        else
+          image.ptr<unsigned char>(v)[u] = static_cast<unsigned char>(dn);
       }
     }
   });

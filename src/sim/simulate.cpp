@@ -33,6 +33,17 @@ constexpr double kCadreBaselineM = 0.05;
 constexpr double kCadreHeightM = 0.15;
 constexpr double kFovTopAboveHorizonDeg = 10.0;
 
+// POLAR Traverse, station "1m" (../shared/data/planetary_analog/README_SOURCE.txt).
+constexpr double kPolarSizePx = 2048.0;
+constexpr double kPolarFocalPx = 1457.0;
+constexpr double kPolarBaselineM = 0.40;
+constexpr double kPolarHeightM = 1.30;
+constexpr double kPolarPitchDownDeg = 28.0;
+
+// Lunar polar light (apply_lunar_polar_light).
+constexpr double kPolarSunElevationDeg = 8.0;
+constexpr double kPolarOppositionSurge = 0.3;
+
 // Rounds to 12 significant digits, so that a value survives printing and parsing exactly.
 double quantize(double value) {
   char buffer[32];
@@ -74,7 +85,8 @@ std::string camera_yaml(const PinholeCamera& c) {
   return "{K: " + K + ", D: " + list({d[0], d[1], d[2], d[3], d[4]}) + "}";
 }
 
-std::string calibration_yaml(const StereoRig& rig, double scale) {
+std::string calibration_yaml(const StereoRig& rig, const std::string& rig_name, double scale) {
+  const std::string geometry = rig_name == "polar" ? "POLAR Traverse" : "CADRE";
   const Eigen::Quaterniond q = canonical(rig.T_B_CL.linear());
   const Eigen::Vector3d t = rig.T_B_CL.translation();
   const std::string body = "T_body_left: {translation: " + list({t.x(), t.y(), t.z()}) +
@@ -84,7 +96,7 @@ std::string calibration_yaml(const StereoRig& rig, double scale) {
                            "}\n";
   std::ostringstream out;
   if (rig.rectified()) {
-    out << "# Synthetic rectified stereo pair (hazmap simulate): CADRE geometry at scale "
+    out << "# Synthetic rectified stereo pair (hazmap simulate): " << geometry << " geometry at scale "
         << num(scale) << ".\n"
         << "image_width: " << rig.camera.width_px << "\n"
         << "image_height: " << rig.camera.height_px << "\n"
@@ -100,7 +112,7 @@ std::string calibration_yaml(const StereoRig& rig, double scale) {
   const Pose3d T_CR_CL = rig.T_CL_CR.inverse();
   const Eigen::Matrix3d R = T_CR_CL.linear();
   const Eigen::Vector3d T = T_CR_CL.translation();
-  out << "# Synthetic stereo pair (hazmap simulate): CADRE geometry at scale " << num(scale)
+  out << "# Synthetic stereo pair (hazmap simulate): " << geometry << " geometry at scale " << num(scale)
       << ", with the true lens\n# distortion and right-camera misalignment; hazmap rectifies it.\n"
       << "image_width: " << rig.camera.width_px << "\n"
       << "image_height: " << rig.camera.height_px << "\n"
@@ -150,6 +162,57 @@ std::string poses_txt(const SimulationOptions& options, const std::vector<Pose3d
     }
     out << '\n';
   }
+  return out.str();
+}
+
+std::string response_yaml(const CameraResponse& r) {
+  return "{gain: " + num(r.gain) + ", exposure: " + num(r.exposure) +
+         ", offset_dn: " + num(r.offset_dn) + ", electrons_per_dn: " + num(r.electrons_per_dn) +
+         ", vignetting: " + num(r.vignetting) + ", bits: " + std::to_string(r.bits) + "}";
+}
+
+// Every lighting, albedo and camera setting, written only when one of them differs from
+// the defaults (so sequences rendered the old way keep their simulation.yaml bytes).
+std::string lighting_and_cameras_yaml(const SimulationOptions& options) {
+  const RenderOptions& r = options.render;
+  const RenderOptions d;
+  const bool rig_default = options.rig == "cadre";
+  const bool lighting_default =
+      r.cast_shadows == d.cast_shadows && r.terrain_shadows == d.terrain_shadows &&
+      r.ambient == d.ambient && r.albedo_model == d.albedo_model &&
+      r.texture_contrast == d.texture_contrast && r.regolith_contrast == d.regolith_contrast &&
+      r.regolith_correlation_m == d.regolith_correlation_m &&
+      r.opposition_surge == d.opposition_surge &&
+      r.opposition_width_deg == d.opposition_width_deg && r.exposure_dn == d.exposure_dn &&
+      r.ground_albedo == d.ground_albedo && r.rock_albedo == d.rock_albedo;
+  const bool cameras_default = options.left_response.is_identity() &&
+                               options.right_response.is_identity() &&
+                               options.row_offset_px == 0.0;
+  if (rig_default && lighting_default && cameras_default) return "";
+  std::ostringstream out;
+  out << "rig: " << options.rig << "\n"
+      << "lighting: {cast_shadows: " << (r.cast_shadows ? "true" : "false")
+      << ", terrain_shadows: " << (r.terrain_shadows ? "true" : "false")
+      << ", ambient: " << num(r.ambient) << ", sky: black"
+      << ", opposition_surge: " << num(r.opposition_surge)
+      << ", opposition_width_deg: " << num(r.opposition_width_deg)
+      << ", exposure_dn: " << num(r.exposure_dn) << "}\n"
+      << "albedo: {model: " << albedo_model_name(r.albedo_model)
+      << ", ground: " << num(r.ground_albedo) << ", rock: " << num(r.rock_albedo);
+  if (r.albedo_model == AlbedoModel::regolith) {
+    out << ", contrast: " << num(r.regolith_contrast)
+        << ", correlation_m: " << num(r.regolith_correlation_m);
+  } else {
+    out << ", contrast: " << num(r.texture_contrast)
+        << ", min_wavelength_m: " << num(r.texture_min_wavelength_m)
+        << ", octaves: " << r.texture_octaves;
+  }
+  out << "}\n"
+      << "cameras: {read_noise_dn: " << num(r.noise_sigma_dn)
+      << ", row_offset_px: " << num(options.row_offset_px)
+      << ",   # row_offset: y_left - y_right of a scene point after rectification\n"
+      << "  left: " << response_yaml(options.left_response)
+      << ",\n  right: " << response_yaml(options.right_response) << "}\n";
   return out.str();
 }
 
@@ -233,6 +296,7 @@ std::string simulation_yaml(const SimulationOptions& options, const Terrain& ter
       << "sun: {shading: " << (options.render.sun_shading ? "true" : "false")
       << ", elevation_deg: " << num(options.render.sun_elevation_deg)
       << ", azimuth_deg: " << num(options.render.sun_azimuth_deg) << "}\n";
+  out << lighting_and_cameras_yaml(options);
   if (!craters.empty()) {
     out << "craters:\n";
     for (const Crater& c : craters) {
@@ -327,8 +391,13 @@ bool StereoRig::rectified() const {
          t.x() > 0.0;
 }
 
-StereoRig make_cadre_rig(double scale, const RigErrors& errors) {
-  check(scale >= 0.05 && scale <= 2.0, "simulate: scale must be in [0.05, 2]");
+namespace {
+
+// A pair of equal pinhole cameras, the left one at body (0, B/2, height_m) looking along
+// body +x pitched down by pitch_down_rad, the right one B to its right (plus `errors`).
+StereoRig make_pinhole_rig(int width_px, int height_px, double focal_px, double baseline_m,
+                           double height_m, const std::function<double(const PinholeCamera&)>& pitch_down_rad,
+                           const RigErrors& errors) {
   check(std::all_of(errors.distortion.begin(), errors.distortion.end(),
                     [](double d) { return std::isfinite(d) && std::abs(d) < 10.0; }),
         "simulate: distortion coefficients must be finite and below 10 in magnitude");
@@ -339,40 +408,82 @@ StereoRig make_cadre_rig(double scale, const RigErrors& errors) {
         "simulate: misalignment offsets must be within +-0.02 m");
   StereoRig rig;
   PinholeCamera& c = rig.camera;
-  c.width_px = static_cast<int>(std::lround(kCadreWidthPx * scale));
-  c.height_px = static_cast<int>(std::lround(kCadreHeightPx * scale));
-  c.fx_px = c.fy_px = quantize(kCadreFocalPx * scale);
+  c.width_px = width_px;
+  c.height_px = height_px;
+  c.fx_px = c.fy_px = quantize(focal_px);
   c.cx_px = 0.5 * (c.width_px - 1);
   c.cy_px = 0.5 * (c.height_px - 1);
   for (std::size_t i = 0; i < 5; ++i) c.distortion[i] = quantize(errors.distortion[i]);
   rig.camera_right = c;
-  rig.baseline_m = kCadreBaselineM;
+  rig.baseline_m = baseline_m;
 
   // Looking along body +x: camera z -> body x, camera x -> body -y, camera y -> body -z.
   Eigen::Matrix3d R_B_C0;
   R_B_C0 << 0, 0, 1,  //
       -1, 0, 0,       //
       0, -1, 0;
-  // Top image edge (v = -0.5, half a pixel above row 0) at 10 deg above the horizon.
-  const double half_vfov_rad = std::atan(0.5 * c.height_px / c.fy_px);
-  const double pitch_down_rad = half_vfov_rad - kFovTopAboveHorizonDeg * kPi / 180.0;
   const Eigen::Matrix3d R_B_C =
-      Eigen::AngleAxisd(pitch_down_rad, Eigen::Vector3d::UnitY()).toRotationMatrix() * R_B_C0;
+      Eigen::AngleAxisd(pitch_down_rad(c), Eigen::Vector3d::UnitY()).toRotationMatrix() * R_B_C0;
   // Render with the quaternion as written (rounded, then normalised as a reader would).
   rig.T_B_CL = Pose3d::Identity();
   rig.T_B_CL.linear() = as_written(R_B_C);
   // Left camera at body y = +B/2, so the pair straddles the body centre.
-  rig.T_B_CL.translation() = Eigen::Vector3d(0.0, 0.5 * kCadreBaselineM, kCadreHeightM);
+  rig.T_B_CL.translation() = Eigen::Vector3d(0.0, 0.5 * baseline_m, height_m);
 
   rig.T_CL_CR = Pose3d::Identity();
   rig.T_CL_CR.translation() =
-      Eigen::Vector3d(kCadreBaselineM, 0.0, 0.0) +
+      Eigen::Vector3d(baseline_m, 0.0, 0.0) +
       Eigen::Vector3d(quantize(errors.misalignment_m.x()), quantize(errors.misalignment_m.y()),
                       quantize(errors.misalignment_m.z()));
   if (!errors.misalignment_rpy_deg.isZero(0.0)) {
     rig.T_CL_CR.linear() = rotation_deg(errors.misalignment_rpy_deg);
   }
   return rig;
+}
+
+}  // namespace
+
+StereoRig make_cadre_rig(double scale, const RigErrors& errors) {
+  check(scale >= 0.05 && scale <= 2.0, "simulate: scale must be in [0.05, 2]");
+  return make_pinhole_rig(
+      static_cast<int>(std::lround(kCadreWidthPx * scale)),
+      static_cast<int>(std::lround(kCadreHeightPx * scale)), kCadreFocalPx * scale,
+      kCadreBaselineM, kCadreHeightM,
+      [](const PinholeCamera& c) {
+        // Top image edge (v = -0.5, half a pixel above row 0) at 10 deg above the horizon.
+        const double half_vfov_rad = std::atan(0.5 * c.height_px / c.fy_px);
+        return half_vfov_rad - kFovTopAboveHorizonDeg * kPi / 180.0;
+      },
+      errors);
+}
+
+StereoRig make_polar_rig(double scale, const RigErrors& errors) {
+  check(scale >= 0.05 && scale <= 2.0, "simulate: scale must be in [0.05, 2]");
+  const int size_px = static_cast<int>(std::lround(kPolarSizePx * scale));
+  return make_pinhole_rig(
+      size_px, size_px, kPolarFocalPx * scale, kPolarBaselineM, kPolarHeightM,
+      [](const PinholeCamera&) { return kPolarPitchDownDeg * kPi / 180.0; }, errors);
+}
+
+const std::vector<std::string>& rig_names() {
+  static const std::vector<std::string> names = {"cadre", "polar"};
+  return names;
+}
+
+StereoRig make_rig(const std::string& name, double scale, const RigErrors& errors) {
+  if (name == "cadre") return make_cadre_rig(scale, errors);
+  if (name == "polar") return make_polar_rig(scale, errors);
+  throw Error("simulate: unknown rig '" + name + "' (cadre | polar)");
+}
+
+void apply_lunar_polar_light(RenderOptions& render) {
+  render.sun_shading = true;
+  render.sun_elevation_deg = kPolarSunElevationDeg;
+  render.cast_shadows = true;
+  render.terrain_shadows = true;
+  render.ambient = 0.0;
+  render.albedo_model = AlbedoModel::regolith;
+  render.opposition_surge = kPolarOppositionSurge;
 }
 
 void validate(const SimulationOptions& options) {
@@ -395,6 +506,12 @@ void validate(const SimulationOptions& options) {
         "simulate: wheelbase_m and track_m must be in (0, 10]");
   check(options.rock_path_clearance_m >= 0.0 && std::isfinite(options.rock_path_clearance_m),
         "simulate: rock_path_clearance_m must be >= 0");
+  check(std::find(rig_names().begin(), rig_names().end(), options.rig) != rig_names().end(),
+        "simulate: unknown rig '" + options.rig + "' (cadre | polar)");
+  validate(options.left_response);
+  validate(options.right_response);
+  check(std::isfinite(options.row_offset_px) && std::abs(options.row_offset_px) <= 50.0,
+        "simulate: row_offset_px must be within +-50 px");
   validate(options.path);
   validate(options.drift);
 }
@@ -472,7 +589,7 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
   validate(options);
   const Seeds seeds = derive_seeds(options.seed);
   const Terrain terrain = make_simulation_terrain(options);
-  const StereoRig rig = make_cadre_rig(options.scale, options.rig_errors);
+  const StereoRig rig = make_rig(options.rig, options.scale, options.rig_errors);
   const std::vector<Pose3d> path = simulation_path(options, terrain);
   const std::vector<Pose3d> reported = reported_path(options, path);
   const bool drift = options.drift.fraction > 0.0;
@@ -515,7 +632,7 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
       out_dir / "simulation.yaml",
       simulation_yaml(options, terrain, craters, rig,
                       drift ? drift_direction_rad(options.drift, seeds.drift) : 0.0));
-  write_file_atomically(out_dir / "calibration.yaml", calibration_yaml(rig, options.scale));
+  write_file_atomically(out_dir / "calibration.yaml", calibration_yaml(rig, options.rig, options.scale));
   write_file_atomically(out_dir / "poses.txt", poses_txt(options, reported, false, drift));
   if (drift) write_file_atomically(out_dir / "poses_true.txt", poses_txt(options, path, true, false));
 
@@ -525,6 +642,9 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
   summary.height_px = rig.camera.height_px;
   summary.rocks = terrain.rocks().size();
   summary.craters = craters.size();
+  // The right camera as rendered: its rows off by the residual row offset.
+  PinholeCamera right_render = rig.camera_right;
+  right_render.cy_px -= options.row_offset_px;
   const Progress progress(options.frames);
   for (int k = 0; k < options.frames; ++k) {
     const std::string name = frame_name(k);
@@ -533,8 +653,10 @@ SimulationSummary simulate_sequence(const SimulationOptions& options,
     const std::uint64_t frame_key =
         hash_combine(seeds.image_noise, static_cast<std::uint64_t>(k));
     const auto start = std::chrono::steady_clock::now();
-    const cv::Mat left = renderer.render(rig.camera, T_W_CL, hash_combine(frame_key, 0));
-    const cv::Mat right = renderer.render(rig.camera_right, T_W_CR, hash_combine(frame_key, 1));
+    const cv::Mat left =
+        renderer.render(rig.camera, T_W_CL, hash_combine(frame_key, 0), options.left_response);
+    const cv::Mat right =
+        renderer.render(right_render, T_W_CR, hash_combine(frame_key, 1), options.right_response);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.render_seconds += seconds;

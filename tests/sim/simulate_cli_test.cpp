@@ -98,4 +98,59 @@ TEST(SimulateCli, IntegerFlagsAreRangeCheckedBeforeTheCast) {
 }
 
 }  // namespace
+// Issue 33: light, regolith and camera flags reach simulation.yaml; bad ones are named and
+// nothing is written.
+TEST(SimulateCli, LowSunAndCameraFlags) {
+  testing::TempDir dir;
+  const CommandResult r = simulate(
+      "--scenario rocks --frames 1 --scale 0.05 --terrain-size 4 --rig polar --lunar-polar-light "
+      "--sun-elevation-deg 5 --sun-azimuth-deg -150 --ambient 0.02 --albedo-contrast 0.03 "
+      "--albedo-correlation 0.1 --opposition-width-deg 4 --gain 1,1.2 --exposure 0.8 "
+      "--offset-dn 4,5 --electrons-per-dn 20 --vignetting 0.1 --bits 12 --row-offset-px 1.5 "
+      "--noise-octaves 7 --noise-gain 0.6 --quiet --out " +
+      (dir / "seq").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const YAML::Node sim = YAML::LoadFile((dir / "seq/simulation.yaml").string());
+  EXPECT_EQ(sim["rig"].as<std::string>(), "polar");
+  EXPECT_EQ(sim["sun"]["elevation_deg"].as<double>(), 5.0);
+  EXPECT_EQ(sim["sun"]["azimuth_deg"].as<double>(), -150.0);
+  EXPECT_TRUE(sim["lighting"]["terrain_shadows"].as<bool>());
+  EXPECT_EQ(sim["lighting"]["ambient"].as<double>(), 0.02);
+  EXPECT_EQ(sim["lighting"]["opposition_surge"].as<double>(), 0.3);
+  EXPECT_EQ(sim["lighting"]["opposition_width_deg"].as<double>(), 4.0);
+  EXPECT_EQ(sim["albedo"]["model"].as<std::string>(), "regolith");
+  EXPECT_EQ(sim["albedo"]["contrast"].as<double>(), 0.03);
+  EXPECT_EQ(sim["albedo"]["correlation_m"].as<double>(), 0.1);
+  EXPECT_EQ(sim["cameras"]["row_offset_px"].as<double>(), 1.5);
+  EXPECT_EQ(sim["cameras"]["left"]["gain"].as<double>(), 1.0);
+  EXPECT_EQ(sim["cameras"]["right"]["gain"].as<double>(), 1.2);
+  EXPECT_EQ(sim["cameras"]["right"]["offset_dn"].as<double>(), 5.0);
+  EXPECT_EQ(sim["cameras"]["left"]["exposure"].as<double>(), 0.8);
+  EXPECT_EQ(sim["cameras"]["left"]["electrons_per_dn"].as<double>(), 20.0);
+  EXPECT_EQ(sim["cameras"]["left"]["vignetting"].as<double>(), 0.1);
+  EXPECT_EQ(sim["cameras"]["left"]["bits"].as<int>(), 12);
+  EXPECT_EQ(sim["ground_noise"]["octaves"].as<int>(), 7);
+  const YAML::Node calib = YAML::LoadFile((dir / "seq/calibration.yaml").string());
+  EXPECT_EQ(calib["image_width"].as<int>(), 102);  // 2048 x 0.05
+
+  const std::string out = " --out " + (dir / "bad").string();
+  const struct {
+    const char* args;
+    const char* named;
+  } cases[] = {{"--rig mars", "mars"},
+               {"--vignetting 1.5", "vignetting"},
+               {"--gain 0", "gain"},
+               {"--bits 10", "--bits"},
+               {"--albedo chalk", "--albedo"},
+               {"--gain 1,2,3", "--gain"},
+               {"--row-offset-px 99", "row_offset_px"},
+               {"--sun-elevation-deg 0", "sun_elevation_deg"}};
+  for (const auto& c : cases) {
+    const CommandResult bad = simulate(std::string(c.args) + " --quiet" + out);
+    EXPECT_NE(bad.exit_code, 0) << c.args;
+    EXPECT_NE(bad.output.find(c.named), std::string::npos) << c.args << ": " << bad.output;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << c.args;
+  }
+}
+
 }  // namespace hazmap

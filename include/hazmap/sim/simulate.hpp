@@ -75,7 +75,26 @@ struct StereoRig {
 /// or the errors are not finite.
 StereoRig make_cadre_rig(double scale, const RigErrors& errors = RigErrors());
 
+/// The POLAR Traverse rig (NASA Ames lunar-polar analog dataset, station "1m") at `scale`
+/// (image size relative to 2048 x 2048): f = 1457 scale px, principal point at the image
+/// centre, baseline 0.40 m; left camera at body (0, 0.20, 1.30) looking along body +x,
+/// pitched 28 deg down (the mount fitted to that pair). `errors` as for make_cadre_rig.
+StereoRig make_polar_rig(double scale, const RigErrors& errors = RigErrors());
+
+/// The rigs `hazmap simulate --rig` knows: "cadre" (the default) and "polar".
+const std::vector<std::string>& rig_names();
+
+/// make_cadre_rig or make_polar_rig by name; throws Error on an unknown name.
+StereoRig make_rig(const std::string& name, double scale, const RigErrors& errors = RigErrors());
+
+/// Lunar polar light (`hazmap simulate --lunar-polar-light`): sun 8 deg above the horizon
+/// (polar sites see it between a few degrees and about 15), ground shadows traced, no
+/// ambient light (black sky, no atmosphere), dull regolith albedo, opposition surge.
+/// Only lighting and albedo change; the caller's camera settings stay.
+void apply_lunar_polar_light(RenderOptions& render);
+
 struct SimulationOptions {
+  std::string rig = "cadre";       ///< cadre | polar (make_rig)
   std::string scenario = "rocks";  ///< flat | ramp | sine | rocks | craters (TerrainOptions)
   std::uint64_t seed = 1;
   int frames = 8;
@@ -114,6 +133,13 @@ struct SimulationOptions {
   std::vector<Rock> extra_rocks;      ///< added in every scenario
   std::vector<Crater> extra_craters;  ///< added in every scenario
   RenderOptions render;
+  /// The cameras' responses (gain, exposure, offset, shot noise, vignetting, bit depth).
+  CameraResponse left_response;
+  CameraResponse right_response;
+  /// Residual row offset after rectification, px: a scene point at row y in the left
+  /// image appears at row y - row_offset_px in the right one (the right camera is rendered
+  /// with its principal point that much higher; calibration.yaml keeps the nominal one).
+  double row_offset_px = 0.0;
   int png_compression = 9;  ///< zlib level 0-9 for the PNG files
   /// One spdlog info line per rendered frame with rate and time left (the CLI's
   /// progress); off, the lines go to debug.
