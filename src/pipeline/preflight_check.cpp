@@ -113,6 +113,9 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
   fc.tilt_body_deg = fc.ground.found ? fc.ground.tilt_deg(body_up) : kNaN;
   fc.camera_height_m = fc.ground.found ? fc.ground.height_of(camera) : kNaN;
   fc.body_height_m = fc.ground.found ? fc.ground.height_of(body) : kNaN;
+  if (fc.ground.found)
+    fc.scalar_first_hint = scalar_first_hint(calibration, T_W_B, fc.ground.normal,
+                                             config.hazard.max_slope_deg);
 
   // Nearest visible ground: the fitted plane, else the wheel plane z_B = 0.
   const Eigen::Vector3d n = fc.ground.found ? fc.ground.normal : body_up;
@@ -157,7 +160,6 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
   }
   for (std::size_t c : inside)
     fc.layer_share.push_back(cloud.empty() ? 0.0 : static_cast<double>(c) / static_cast<double>(cloud.size()));
-  (void)calibration;
   return fc;
 }
 
@@ -256,7 +258,10 @@ void add_problems(PreflightReport& r, const Config& config, const PreflightLimit
   } else {
     const std::string tilt =
         ground_tilt_problem(median(tilt_w), median(tilt_b), config.hazard.max_slope_deg);
-    if (!tilt.empty()) out.push_back(tilt);
+    std::string hint;
+    for (const FrameCheck& f : r.frames)
+      if (hint.empty()) hint = f.scalar_first_hint;
+    if (!tilt.empty()) out.push_back(tilt + hint);
     add_body_frame_problems(r, config, body_h, tilt_b, limits);
   }
 

@@ -32,9 +32,9 @@ std::string describe(const CameraView& v) {
            (v.axis_elevation_deg >= 0 ? "above" : "below") + " the horizon and " +
            (v.ground_share > 0 ? fmt("only %.0f %% of the image looks below it", 100 * v.ground_share)
                                : std::string("no pixel looks below it"));
-  return fmt("its image is rolled %.0f deg (the image's down points up; optical axis %.0f deg "
-             "below the horizon)",
-             std::abs(v.roll_deg), -v.axis_elevation_deg);
+  return fmt("its image is rolled %.0f deg (the image's down points up; optical axis %.0f deg ",
+             std::abs(v.roll_deg), std::abs(v.axis_elevation_deg)) +
+         (v.axis_elevation_deg >= 0 ? "above" : "below") + " the horizon)";
 }
 
 const char* const kMountRule =
@@ -190,6 +190,30 @@ std::vector<RigFinding> check_rig_geometry(const Sequence& seq,
     check_orientation(seq, frames.front(), limits, out);
   }
   return out;
+}
+
+std::string scalar_first_hint(const StereoCalibration& c, const Pose3d& T_W_B,
+                              const Eigen::Vector3d& n_W, double max_slope_deg) {
+  auto tilt = [](const Eigen::Vector3d& n) {
+    return std::acos(std::clamp(std::abs(n.normalized().z()), 0.0, 1.0)) * kRadToDeg;
+  };
+  if (!(tilt(n_W) > max_slope_deg)) return {};
+  const Eigen::Matrix3d R_W_B = T_W_B.linear(), R_B_C = c.T_B_C.linear();
+  const Eigen::Vector3d n_C = (R_W_B * R_B_C).transpose() * n_W;  // as the camera saw it
+  if (c.body_pose_source == BodyPoseSource::quaternion) {
+    const double t = tilt(R_W_B * read_scalar_first(R_B_C) * n_C);
+    if (t <= max_slope_deg)
+      return fmt("; T_body_left's quaternion looks written scalar first: read so, the ground "
+                 "would be tilted %.1f deg; hazmap reads [qx, qy, qz, qw]",
+                 t);
+  }
+  const Eigen::Vector3d n_B = R_W_B.transpose() * n_W;
+  const double t = tilt(read_scalar_first(R_W_B) * n_B);
+  if (t <= max_slope_deg)
+    return fmt("; the pose's quaternion looks written scalar first: read so, the ground would "
+               "be tilted %.1f deg; poses.txt wants qx qy qz qw",
+               t);
+  return {};
 }
 
 std::vector<std::string> enforce_rig_geometry(const std::vector<RigFinding>& findings) {

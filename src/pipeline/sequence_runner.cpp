@@ -206,8 +206,9 @@ void warn_if_ground_tilted(const PointCloud& cloud, const SequenceFrame& frame,
       ground_tilt_problem(ground.tilt_deg(Eigen::Vector3d::UnitZ()),
                           ground.tilt_deg(T_W_B.linear().col(2)), config.hazard.max_slope_deg);
   if (!problem.empty())
-    spdlog::warn("frame {}: {} (a rover really standing on such a slope may ignore this)",
-                 frame.name, problem);
+    spdlog::warn("frame {}: {}{} (a rover really standing on such a slope may ignore this)",
+                 frame.name, problem,
+                 scalar_first_hint(calibration, T_W_B, ground.normal, config.hazard.max_slope_deg));
 }
 
 }  // namespace

@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -178,18 +181,39 @@ TEST(OwnRover, RpyTakenForTheCamerasOwnPitch) {
                              "(docs/conventions.md)");
 }
 
+// A forward camera pitched down theta, its quaternion written [qw, qx, qy, qz], reads as
+// a level camera turned theta to the side: a plausible mount until the ground is seen.
+// The first frame's ground tells the two apart: `run` warns with the hint, `check` lists
+// it as a problem.
 TEST(OwnRover, QuaternionWrittenScalarFirst) {
-  Case c;
-  // The sample's camera, pitched 20 deg down, written [qw, qx, qy, qz].
-  const Eigen::Matrix3d R = rotation_from_rpy(-110 * M_PI / 180, 0, -90 * M_PI / 180);
-  c.edit_calibration(kTinyMount, "quaternion: " + quaternion_text(R, /*scalar_first=*/true));
-  expect_refused(c, kCalib + ": key 'T_body_left': the left camera is mounted so that its optical "
-                             "axis points 52 deg above the horizon and no pixel looks below it; the "
-                             "quaternion looks written scalar first ([qw, qx, qy, qz]): hazmap reads "
-                             "[qx, qy, qz, qw]; move the first number to the end");
-  // Written the right way round, it runs.
-  c.edit_calibration("quaternion: " + quaternion_text(R, true), "quaternion: " + quaternion_text(R));
-  EXPECT_EQ(c.run("run").exit_code, 0);
+  testing::TempDir dir;
+  fs::copy(testing::source_dir() / "data/sample", dir / "seq", fs::copy_options::recursive);
+  std::string calibration = testing::read_text(dir / "seq/calibration.yaml");
+  const std::string right = "quaternion: [-0.624596573818, 0.624596573818, -0.33148019545, 0.33148019545]";
+  calibration = replaced(calibration, right,
+                         "quaternion: [0.33148019545, -0.624596573818, 0.624596573818, -0.33148019545]");
+  write(dir / "seq/calibration.yaml", calibration);
+  const std::string config = (testing::source_dir() / "config/default.yaml").string();
+  const std::string hint =
+      "; T_body_left's quaternion looks written scalar first: read so, the ground would be tilted "
+      "0.0 deg; hazmap reads [qx, qy, qz, qw]";
+  CommandResult r = testing::run_command(std::string(HAZMAP_CLI) + " run --quiet --frames 0:1 --config " +
+                                         config + " --sequence " + (dir / "seq").string() +
+                                         " --out " + (dir / "out").string() + " 2>&1 1>/dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("frame 000000: the ground fitted to the points is tilted 34."), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(hint + " (a rover really"), std::string::npos) << r.output;
+  r = testing::run_command(std::string(HAZMAP_CLI) + " check --count 1 --config " + config +
+                           " --sequence " + (dir / "seq").string() + " 2>&1");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(hint + "\n"), std::string::npos) << r.output;
+  // Written the right way round: no warning, verdict OK.
+  write(dir / "seq/calibration.yaml", replaced(calibration,
+      "quaternion: [0.33148019545, -0.624596573818, 0.624596573818, -0.33148019545]", right));
+  r = testing::run_command(std::string(HAZMAP_CLI) + " check --count 1 --config " + config +
+                           " --sequence " + (dir / "seq").string() + " 2>&1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 TEST(OwnRover, CameraUpsideDown) {

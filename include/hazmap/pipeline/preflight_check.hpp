@@ -83,6 +83,7 @@ struct FrameCheck {
   double nearest_ground_distance_m = 0.0;
   double nearest_point_distance_m = 0.0;  ///< horizontal, from the body origin; NaN: none
   std::vector<double> layer_share;  ///< share of points inside each layer's window
+  std::string scalar_first_hint;    ///< scalar_first_hint() of the ground, "" if none
 };
 
 struct PreflightReport {

@@ -58,6 +58,14 @@ std::vector<RigFinding> check_rig_geometry(const Sequence& sequence,
                                            const std::vector<SequenceFrame>& frames,
                                            const RigLimits& limits = {});
 
+/// After a frame: when the ground its points lie on (unit normal `ground_normal_W`) is
+/// tilted beyond `max_slope_deg` in W, but reading T_body_left's quaternion (or the
+/// pose's) scalar first would level it, the hint that says so ("" otherwise). Both
+/// readings can be plausible mounts before a frame is seen (a forward camera pitched down
+/// theta, misread, is a level camera turned theta to the side); the ground tells them apart.
+std::string scalar_first_hint(const StereoCalibration& calibration, const Pose3d& T_W_B,
+                              const Eigen::Vector3d& ground_normal_W, double max_slope_deg);
+
 /// Throws Error with the first error's line; returns the warnings' lines.
 std::vector<std::string> enforce_rig_geometry(const std::vector<RigFinding>& findings);
 
