@@ -345,7 +345,7 @@ RunResult SequenceRun::run() {
   writer.finish();
   // A layer no point reached is all unknown, which looks like a map: say so (measured:
   // default.yaml on EuRoC's room left its 1.28 m layer empty in every frame, silently).
-  if (result.frames_processed > 0) {
+  if (result.frames_processed > 0 && result.points_total > 0) {  // else one line says why
     const auto& views = pipeline.layers();
     for (size_t i = 0; i < views.size(); ++i) {
       const DenseGrid& h = views[i].map.height;
