@@ -4,6 +4,8 @@
 
 #include <pybind11/pybind11.h>
 
+#include <spdlog/spdlog.h>
+
 #include "bindings.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/map/dense_grid.hpp"
@@ -15,6 +17,8 @@ PYBIND11_MODULE(_hazmap, m) {
   // The library's expected failures (bad file, bad key, bad input) carry a one-line
   // message naming the file, line or key: it becomes the exception's message.
   py::register_exception<hazmap::Error>(m, "Error", PyExc_RuntimeError);
+  // The library's log lines as the CLI prints them: the message alone, no timestamp.
+  spdlog::set_pattern("%v");
   m.attr("UNKNOWN") = static_cast<int>(hazmap::HazardClass::unknown);
   m.attr("TRAVERSABLE") = static_cast<int>(hazmap::HazardClass::traversable);
   m.attr("HAZARD") = static_cast<int>(hazmap::HazardClass::hazard);

@@ -126,7 +126,8 @@ hazmap::EurocOptions euroc_options(const Args& args) {
   return options;
 }
 
-hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args) {
+hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args,
+                                   bool identity_fallback) {
   const bool euroc = !hazmap::find_euroc_mav0(dir).empty();
   if (!euroc) {
     for (const char* flag : {"poses", "pose-frame", "max-pose-gap"})
@@ -135,7 +136,9 @@ hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args&
                          dir.string() + " is not one (no mav0/cam0 and mav0/cam1)");
     return hazmap::load_sequence(dir);
   }
-  return hazmap::load_euroc_sequence(dir, euroc_options(args));
+  hazmap::EurocOptions options = euroc_options(args);
+  options.identity_poses = identity_fallback;
+  return hazmap::load_euroc_sequence(dir, options);
 }
 
 }  // namespace hazmap::cli

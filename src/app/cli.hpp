@@ -75,6 +75,9 @@ hazmap::EurocOptions euroc_options(const Args& args);
 
 /// Our sequence layout, or an ASL/EuRoC folder read in place with euroc_options(args)
 /// (run, check); the EuRoC flags on our layout are a UsageError.
-hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args);
+/// `identity_fallback`: an EuRoC folder without any pose source maps at the identity
+/// (stereo), said once as a warning, rather than being an error (run, check).
+hazmap::Sequence load_any_sequence(const std::filesystem::path& dir, const Args& args,
+                                   bool identity_fallback = false);
 
 }  // namespace hazmap::cli

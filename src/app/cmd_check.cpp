@@ -10,7 +10,7 @@ namespace hazmap::cli {
 
 namespace {
 const char* kCheckUsage = R"(usage: hazmap check --config FILE --sequence DIR [--frames A:B] [--count N]
-                    [--board WxH] [--set KEY=VALUE]...
+                    [--board WxH] [--set KEY=VALUE]... [--quiet]
                     [--poses CSV] [--pose-frame body|left_camera] [--max-pose-gap SECONDS]
 
 A pre-flight report on new data: runs the stereo front end of `hazmap run` on --count
@@ -26,6 +26,10 @@ DIR may be an ASL/EuRoC folder, read as `hazmap run` reads it.
   --board WxH    inner corners of a chessboard to look for in every frame (default: the
                  common boards 9x6, 8x6, 7x6, ... in the first frame checked)
   --set K=V      override a YAML key, as in run
+  --quiet        no log lines (the report itself is still printed)
+Before the frames it applies the geometry guards of `hazmap run` (baseline, focal length,
+the camera's mounting and the first pose): what would stop a run is a problem here,
+what a run would warn about a warning line.
 Exit code: 0 when the verdict is OK, 1 when it lists problems (or on bad input).
 )";
 

@@ -63,6 +63,14 @@ std::string pct(double v) {
   return buf;
 }
 
+/// A length in mm, or "none" when undefined (no known cell over the ground truth).
+std::string mm(double metres) {
+  char buf[32];
+  if (!std::isfinite(metres)) return "none";
+  std::snprintf(buf, sizeof buf, "%.2f mm", 1000.0 * metres);
+  return buf;
+}
+
 }  // namespace
 
 int cmd_evaluate(int argc, char** argv) {
@@ -96,11 +104,11 @@ int cmd_evaluate(int argc, char** argv) {
   const hazmap::eval::RunEvaluation ev = hazmap::eval::evaluate_run(options);
   for (size_t l = 0; l < ev.layers.size(); ++l) {
     const auto m = hazmap::eval::derive_metrics(ev.pooled[l]);
-    spdlog::info("{:>5} {:>5.0f} cm {:<5} h_min {:>4.1f} cm: RMS {:>7.2f} mm, unknown {:>8}, "
+    spdlog::info("{:>5} {:>5.0f} cm {:<5} h_min {:>4.1f} cm: RMS {:>10}, unknown {:>8}, "
                  "missed {:.4f} m2 ({} of obstacles), false alarm {:.4f} m2 ({} of known), "
                  "recall {}",
                  ev.layers[l].name, ev.layers[l].resolution_m * 100, ev.layers[l].rule,
-                 ev.layers[l].h_min_m * 100, m.height_rms_m * 1000, pct(m.unknown_fraction),
+                 ev.layers[l].h_min_m * 100, mm(m.height_rms_m), pct(m.unknown_fraction),
                  m.missed_area_m2, pct(m.missed_of_hazard), m.false_alarm_area_m2,
                  pct(m.false_alarm_fraction), pct(m.hazard_recall));
   }

@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "cli.hpp"
+#include "hazmap/core/error.hpp"
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/output_folder.hpp"
@@ -128,6 +129,8 @@ int cmd_run(int argc, char** argv) {
   spdlog::info("done: {} frames, {} points; wrote {} frame folders under {}",
                result.frames_processed, result.points_total, result.frames_written,
                (options.out_dir / "frames").string());
+  // The frames are written (all unknown), but a map without a point is a failed run.
+  if (!result.no_points.empty()) throw hazmap::Error(result.no_points);
   return 0;
 }
 

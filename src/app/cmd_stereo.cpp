@@ -15,6 +15,7 @@
 #include "hazmap/io/output_folder.hpp"
 #include "hazmap/io/ply.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/pipeline/rig_geometry.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
 #include "hazmap/stereo/disparity_image.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
@@ -25,6 +26,7 @@ namespace {
 const char* kStereoUsage =
     R"(usage: hazmap stereo --config FILE --sequence DIR --out DIR [--frames A:B]
                      [--set KEY=VALUE]... [--overwrite] [--quiet]
+                     [--poses CSV] [--pose-frame body|left_camera] [--max-pose-gap SECONDS]
 
 Runs the stereo front end (SPEC 3-4: grey, rectify, StereoBM/SGBM, points with
 covariance) on a sequence and writes, per frame, OUT/frames/<frame>/:
@@ -35,9 +37,12 @@ covariance) on a sequence and writes, per frame, OUT/frames/<frame>/:
                                   covariance cov_xx..cov_zz [m^2] and grey colour
 plus OUT/stereo_summary.json (per-frame points and stage timings) and OUT/run.log.
 DIR is a sequence folder (SPEC 2) or an ASL/EuRoC folder (mav0/cam0, mav0/cam1), read
-directly; EuRoC frames take mav0/state_groundtruth_estimate0 poses when present, else
-the identity (the cloud is then in EuRoC's body frame).
+directly; EuRoC frames take their poses from --poses, else from
+mav0/state_groundtruth_estimate0 when present, else the identity (said as a warning; the
+cloud is then in EuRoC's body frame).
   --frames A:B   frame indices [A, B) of the sorted frames
+  --poses CSV, --pose-frame body|left_camera, --max-pose-gap SECONDS
+                 an EuRoC folder's poses, as for hazmap run
   --set K=V      override a YAML key, e.g. --set stereo.matcher=sgbm
   --overwrite    OUT may hold an earlier hazmap output (as for hazmap run): removed
                  before the first frame; OUT must otherwise be absent or empty, and a
@@ -58,8 +63,10 @@ int cmd_stereo(int argc, char** argv) {
     std::fputs(kStereoUsage, stdout);
     return kExitOk;
   }
-  const Args args =
-      parse_args(argc, argv, {"config", "sequence", "out", "frames"}, {"quiet", "overwrite"});
+  const Args args = parse_args(argc, argv,
+                               {"config", "sequence", "out", "frames", "poses", "pose-frame",
+                                "max-pose-gap"},
+                               {"quiet", "overwrite"});
   const std::filesystem::path config_path = args.required("config");
   const std::filesystem::path sequence_dir = args.required("sequence");
   const std::filesystem::path out_dir = args.required("out");
@@ -69,22 +76,24 @@ int cmd_stereo(int argc, char** argv) {
   if (!refusal.empty()) throw UsageError(refusal);
   // Every input is checked before anything is logged or written.
   const hazmap::Config config = hazmap::load_config(config_path, args.sets);
-  hazmap::Sequence sequence;
-  if (!hazmap::find_euroc_mav0(sequence_dir).empty()) {
-    hazmap::EurocOptions euroc;
-    euroc.identity_poses = true;
-    sequence = hazmap::load_euroc_sequence(sequence_dir, euroc);
-  } else {
-    sequence = hazmap::load_sequence(sequence_dir);
-  }
+  setup_logging("", args.on("quiet"));  // the terminal only, plain lines, until OUT is ready
+  const hazmap::Sequence sequence =
+      load_any_sequence(sequence_dir, args, /*identity_fallback=*/true);
   const std::vector<hazmap::SequenceFrame> frames =
       args.has("frames") ? hazmap::select_frames(sequence.frames, args.get("frames"))
                          : sequence.frames;
   hazmap::check_frame_images(frames, sequence.calibration);
+  std::vector<std::string> warnings =
+      hazmap::enforce_rig_geometry(hazmap::check_rig_geometry(sequence, frames));
+  if (sequence.poses_assumed_identity)
+    warnings.push_back(sequence.dir.string() + ": no poses (no --poses, no "
+                       "mav0/state_groundtruth_estimate0): every frame at the identity, the "
+                       "clouds in EuRoC's body frame");
   hazmap::StereoFrontEnd front_end(config.stereo, config.sensor, sequence.calibration);
   hazmap::clear_output_folder(out);  // every check has passed
 
   setup_logging(out_dir / "run.log", args.on("quiet"));
+  for (const std::string& w : warnings) spdlog::warn("{}", w);
   const hazmap::StereoGeometry& g = front_end.rectifier().geometry();
   const cv::Rect region = front_end.builder().region();
   spdlog::info("hazmap {} stereo: config {}, sequence {}, out {}, {} frames", HAZMAP_VERSION,

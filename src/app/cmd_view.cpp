@@ -11,7 +11,7 @@ namespace hazmap::cli {
 
 namespace {
 const char* kViewUsage =
-    R"(usage: hazmap view RUN [--out FILE]
+    R"(usage: hazmap view RUN [--out FILE] [--quiet]
 
 Writes one static HTML page (default RUN/view.html, written atomically) that shows the
 run in any browser, opened from disk: no server, no network, nothing beside it. Per
@@ -25,6 +25,7 @@ drag to pan (views linked), a metric scale bar, the values of every map under th
 pointer. view.html#frame=N opens at
 frame N (a name, or a position from 0).
   --out FILE   where to write the page (default RUN/view.html)
+  --quiet      no line about the page written (errors only)
 )";
 }  // namespace
 
@@ -34,12 +35,13 @@ int cmd_view(int argc, char** argv) {
     return kExitOk;
   }
   std::vector<std::string> positional;
-  const Args args = parse_args(argc, argv, {"out"}, {}, &positional);
+  const Args args = parse_args(argc, argv, {"out"}, {"quiet"}, &positional);
   if (positional.size() != 1) throw UsageError("view needs one RUN folder");
   hazmap::eval::ViewerOptions options;
   options.run_dir = positional[0];
   if (args.has("out")) options.out_file = args.required("out");
   const hazmap::eval::ViewerReport r = hazmap::eval::write_run_viewer(options);
+  if (args.on("quiet")) return kExitOk;
   std::printf("wrote %s: %.1f MB, %zu frames (of %zu processed), %zu maps, grids %.1f MB "
               "packed into %.1f MB%s%s\n",
               r.out_file.string().c_str(), static_cast<double>(r.page_bytes) / 1e6, r.frames,

@@ -141,6 +141,8 @@ ChessboardCalibration calibrate_chessboard_pairs(const fs::path& dir, const Ches
   }
   ChessboardCalibration result = calibrate_stereo(views, size, o);
   result.rejected = rejected;
+  // A chessboard knows nothing of the rover: T_body_left is for the user to give.
+  result.calibration.body_pose_source = BodyPoseSource::absent;
   return result;
 }
 

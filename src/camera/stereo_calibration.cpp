@@ -42,7 +42,7 @@ CameraIntrinsics parse_camera(YamlMap m) {
 }
 
 /// {translation: [x, y, z], rpy_deg: [r, p, y] | quaternion: [qx, qy, qz, qw]}.
-Pose3d parse_pose(YamlMap b) {
+Pose3d parse_pose(YamlMap b, BodyPoseSource* source = nullptr) {
   std::vector<double> tr{0, 0, 0};
   b.get("translation", tr, 3);
   Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
@@ -53,6 +53,7 @@ Pose3d parse_pose(YamlMap b) {
     b.get("rpy_deg", rpy, 3);
     const double d2r = M_PI / 180.0;
     rot = rotation_from_rpy(rpy[0] * d2r, rpy[1] * d2r, rpy[2] * d2r);
+    if (source != nullptr) *source = BodyPoseSource::rpy_deg;
   } else if (b.has("quaternion")) {
     std::vector<double> q;
     b.get("quaternion", q, 4);
@@ -60,6 +61,7 @@ Pose3d parse_pose(YamlMap b) {
     if (std::abs(quat.norm() - 1.0) > 1e-3)
       b.fail("quaternion", "is not a unit quaternion (norm " + std::to_string(quat.norm()) + ")");
     rot = quat.normalized().toRotationMatrix();
+    if (source != nullptr) *source = BodyPoseSource::quaternion;
   }
   b.finish();
   Pose3d pose = Pose3d::Identity();
@@ -174,6 +176,13 @@ std::string format_stereo_calibration(const StereoCalibration& c, const std::str
   const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> R = c.R;
   out += "R: " + list(R.data(), 9) + "   # x_right = R x_left + T\n";
   out += "T: " + list(c.T.data(), 3) + "   # metres\n";
+  if (c.body_pose_source == BodyPoseSource::absent) {
+    // Not known here (hazmap calibrate sees no rover): a template to fill in, so that a
+    // run says it is missing rather than silently looking up from the body origin.
+    out += "# T_body_left: {translation: [x, y, z], rpy_deg: [-(90 + pitch_down), 0, -90]}"
+           "   # the left camera on the rover (docs/conventions.md)\n";
+    return out;
+  }
   const Eigen::Quaterniond q(c.T_B_C.linear());
   const double quat[4] = {q.x(), q.y(), q.z(), q.w()};
   out += "T_body_left: {translation: " + list(c.T_B_C.translation().data(), 3) +
@@ -239,7 +248,11 @@ StereoCalibration load_stereo_calibration(const std::filesystem::path& path) {
   if (!top.has("T")) top.fail("T", "missing required key");
   top.get("T", t, 3);
   c.T = Eigen::Vector3d(t[0], t[1], t[2]);
-  if (top.has("T_body_left")) c.T_B_C = parse_pose(top.child("T_body_left"));
+  c.body_pose_source = BodyPoseSource::absent;  // unless given (or a bare translation)
+  if (top.has("T_body_left")) {
+    c.body_pose_source = BodyPoseSource::code;
+    c.T_B_C = parse_pose(top.child("T_body_left"), &c.body_pose_source);
+  }
   top.finish();
   c.source = source;
   validate(c, source);

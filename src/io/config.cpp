@@ -58,7 +58,13 @@ void parse_map(YamlMap& m, const std::vector<Key>& keys, std::size_t begin, std:
     parse_map(child, keys, i, j, depth + 1, leaf);
     i = j;
   }
-  m.finish();
+  // The names this map may hold, for "did you mean" on an unknown one.
+  std::vector<std::string> known;
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::string part = dotted_parts(keys[i].name)[depth];
+    if (known.empty() || known.back() != part) known.push_back(part);
+  }
+  m.finish(known);
 }
 
 /// Reads one key (`name` within map `m`) into its member of `owner`.

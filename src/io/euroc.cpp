@@ -217,8 +217,10 @@ Sequence load_euroc_sequence(const fs::path& dir, const EurocOptions& options) {
     poses = read_pose_csv(poses_path);
   } else if (!options.identity_poses) {
     throw Error(mav0.string() + ": no pose file (mav0/state_groundtruth_estimate0/data.csv); "
-                                "give one, or ask for identity poses");
+                                "give one with --poses CSV");
   }
+  seq.poses_source = poses_path.string();
+  seq.poses_assumed_identity = poses_path.empty();
   const Pose3d T_C_B = seq.calibration.T_B_C.inverse();
 
   const auto lefts = png_files(mav0 / "cam0" / "data");

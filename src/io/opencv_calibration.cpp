@@ -151,6 +151,7 @@ StereoCalibration load(const std::filesystem::path& path, const OpenCvCalibratio
     fail(path, "image_width", "no image size in the file (image_width/image_height or imageSize) "
                               "and none given");
   c.source = path.string();
+  c.body_pose_source = BodyPoseSource::absent;  // FileStorage files hold no T_body_left
   validate(c, path.string());
   return c;
 }

@@ -218,6 +218,7 @@ Sequence load_sequence(const fs::path& dir) {
   const fs::path poses_path = dir / "poses.txt";
   const auto records = read_pose_file(poses_path);
   seq.poses_fingerprint = poses_fingerprint(records);
+  seq.poses_source = poses_path.string();
   std::map<std::string, FramePose> poses(records.begin(), records.end());
 
   for (const auto& [name, left_path] : lefts) {

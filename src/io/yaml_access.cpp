@@ -1,6 +1,7 @@
 #include "yaml_access.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 #include <set>
 #include <string>
@@ -50,6 +51,10 @@ YamlMap::YamlMap(const YAML::Node& node, std::string path, std::string source,
 
 std::string YamlMap::location(const std::string& key, const YAML::Node& node) const {
   if (overrides_ != nullptr) {
+    // A key that --set created (a misspelt section): the assignment that made it.
+    const std::string below = key_path(key) + ".";
+    for (const auto& [set_key, assignment] : *overrides_)
+      if (set_key.compare(0, below.size(), below) == 0) return "--set " + assignment + ": ";
     // The key itself, or a map above it, set on the command line (the longest match).
     std::string path = key_path(key);
     while (true) {
@@ -153,13 +158,36 @@ YAML::Node YamlMap::raw(const std::string& key) {
   return node_[key];
 }
 
-void YamlMap::finish() const {
+void YamlMap::finish(const std::vector<std::string>& known) const {
   if (!node_.IsMap()) return;
   for (const auto& item : node_) {
     const std::string key = item.first.Scalar();
-    if (!read_.count(key))
-      throw Error(location(key, item.first) + "unknown key '" + key_path(key) + "'");
+    if (read_.count(key)) continue;
+    const std::string near = nearest_key(key, known);
+    throw Error(location(key, item.first) + "unknown key '" + key_path(key) + "'" +
+                (near.empty() ? std::string() : "; did you mean '" + key_path(near) + "'?"));
   }
+}
+
+std::string nearest_key(const std::string& key, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 3) + 1;
+  for (const std::string& k : known) {
+    // Levenshtein distance, one row at a time.
+    std::vector<std::size_t> row(k.size() + 1);
+    for (std::size_t j = 0; j <= k.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= key.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= k.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == k[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    if (row[k.size()] < best_distance) best_distance = row[k.size()], best = k;
+  }
+  return best;
 }
 
 namespace {
@@ -175,7 +203,9 @@ void set_path(YAML::Node node, const std::vector<std::string>& parts, size_t i,
     const long index = std::strtol(part.c_str(), &end, 10);
     if (part.empty() || *end != '\0' || index < 0 || static_cast<size_t>(index) >= node.size())
       throw Error("--set " + assignment + ": '" + prefix + "' is not an element of a list of " +
-                  std::to_string(node.size()));
+                  std::to_string(node.size()) +
+                  (node.size() == 0 ? std::string()
+                                    : " (indices 0 to " + std::to_string(node.size() - 1) + ")"));
     if (last) {
       node[static_cast<size_t>(index)] = value;
       return;
@@ -209,7 +239,12 @@ void apply_yaml_override(YAML::Node& root, const std::string& assignment,
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error("--set " + assignment + ": expected KEY=VALUE");
-  const std::string key = assignment.substr(0, eq);
+  // map.layers[0].size is map.layers.0.size: the README's and most tools' spelling.
+  std::string key;
+  for (const char ch : assignment.substr(0, eq)) {
+    if (ch == '[') key += '.';
+    else if (ch != ']') key += ch;
+  }
   const std::string text = assignment.substr(eq + 1);
   const std::vector<std::string> parts = dotted_parts(key);
   for (const auto& p : parts)

@@ -46,8 +46,9 @@ class YamlMap {
   /// The raw node (marks the key as read).
   YAML::Node raw(const std::string& key);
 
-  /// Throws Error naming the first key that was never read.
-  void finish() const;
+  /// Throws Error naming the first key that was never read; with `known` (the keys this
+  /// map may hold), the nearest of them as "did you mean".
+  void finish(const std::vector<std::string>& known = {}) const;
 
   std::string key_path(const std::string& key) const;
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
@@ -78,7 +79,12 @@ void reject_duplicate_keys(const YAML::Node& root, const std::string& source);
 /// kept: "a..b" -> a, "", b).
 std::vector<std::string> dotted_parts(const std::string& key);
 
-/// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index.
+/// The known key nearest to `key` by edit distance, if near enough to be a misspelling
+/// (at most a third of its letters, at least 2); "" otherwise.
+std::string nearest_key(const std::string& key, const std::vector<std::string>& known);
+
+/// Applies "dotted.key=value" to a YAML tree; sequence elements are addressed by index,
+/// as `map.layers.0.size` or `map.layers[0].size`.
 /// Records the key in `applied` (if given) for error messages.
 void apply_yaml_override(YAML::Node& root, const std::string& assignment,
                          YamlOverrides* applied = nullptr);

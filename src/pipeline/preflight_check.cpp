@@ -11,6 +11,8 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/stereo/row_offset.hpp"
+#include "hazmap/map/layer_stack.hpp"
+#include "hazmap/pipeline/rig_geometry.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
@@ -112,6 +114,9 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
   fc.tilt_body_deg = fc.ground.found ? fc.ground.tilt_deg(body_up) : kNaN;
   fc.camera_height_m = fc.ground.found ? fc.ground.height_of(camera) : kNaN;
   fc.body_height_m = fc.ground.found ? fc.ground.height_of(body) : kNaN;
+  if (fc.ground.found)
+    fc.scalar_first_hint = scalar_first_hint(calibration, T_W_B, fc.ground.normal,
+                                             config.hazard.max_slope_deg);
 
   // Nearest visible ground: the fitted plane, else the wheel plane z_B = 0.
   const Eigen::Vector3d n = fc.ground.found ? fc.ground.normal : body_up;
@@ -134,19 +139,28 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
   fc.nearest_point_distance_m = kNaN;
   const auto& layers = config.map.layers;
   std::vector<std::size_t> inside(layers.size(), 0);
+  // A point reaches a layer inside its window and through its lateral gate (SPEC 4), as
+  // the map takes it: the largest eigenvalue of its x-y covariance against the gate.
+  std::vector<double> gate_var(layers.size(), std::numeric_limits<double>::infinity());
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const double gate = gate_std_m(layers[i], config.rules);
+    if (gate > 0) gate_var[i] = gate * gate;
+  }
   for (const Measurement& m : cloud) {
     const double dx = m.p_W.x() - body.x(), dy = m.p_W.y() - body.y();
     const double d = std::hypot(dx, dy);
     if (std::isnan(fc.nearest_point_distance_m) || d < fc.nearest_point_distance_m)
       fc.nearest_point_distance_m = d;
+    const double half_sum = 0.5 * (double(m.cov_xx) + m.cov_yy);
+    const double half_gap = 0.5 * (double(m.cov_xx) - m.cov_yy);
+    const double lateral_var = half_sum + std::sqrt(half_gap * half_gap + double(m.cov_xy) * m.cov_xy);
     for (size_t i = 0; i < layers.size(); ++i) {
       const double half = 0.5 * layers[i].size * layers[i].resolution_m;
-      if (std::abs(dx) <= half && std::abs(dy) <= half) ++inside[i];
+      if (std::abs(dx) <= half && std::abs(dy) <= half && lateral_var <= gate_var[i]) ++inside[i];
     }
   }
   for (std::size_t c : inside)
     fc.layer_share.push_back(cloud.empty() ? 0.0 : static_cast<double>(c) / static_cast<double>(cloud.size()));
-  (void)calibration;
   return fc;
 }
 
@@ -197,6 +211,55 @@ std::string format_row_offset(const RowOffsetCheck& o) {
              o.spread_px) +
          std::to_string(o.inliers) + " of " + std::to_string(o.matches) + " matches in " +
          std::to_string(o.frames) + " frames; after stereo.row_offset_px " + applied + "\n";
+/// The search against the image: the columns a block matcher leaves without disparity.
+void add_search_fit_problems(PreflightReport& r, const Config& config, const cv::Rect& region,
+                             const PreflightLimits& limits) {
+  const int blank = r.search_min_disparity + r.search_num_disparities;
+  if (region.width <= 0) return;
+  r.blanked_share = std::clamp(static_cast<double>(blank - region.x) / region.width, 0.0, 1.0);
+  if (r.blanked_share > limits.max_blanked_share)
+    r.problems.push_back(fmt("the disparity search [%.0f, %.0f) px leaves the leftmost %.0f px, "
+                             "",
+                             r.search_min_disparity, blank, blank) +
+                         fmt("%.0f %% of the %.0f px wide image, without disparity (> %.0f %%): ",
+                             100 * r.blanked_share, r.calibration.image.width,
+                             100 * limits.max_blanked_share) +
+                         "lower stereo.num_disparities (the config may be for larger images" +
+                         (config.stereo.num_disparities >= r.calibration.image.width / 2
+                              ? ", e.g. full-resolution ones)"
+                              : ")"));
+}
+
+/// The body frame against the ground, where the config takes z_B = 0 as the ground under
+/// the wheels (the below-ground check, the ground band): a body origin far from the
+/// fitted ground, or z_B tilted from its normal beyond max_slope_deg, puts that plane
+/// elsewhere.
+void add_body_frame_problems(PreflightReport& r, const Config& config,
+                             const std::vector<double>& body_h, const std::vector<double>& tilt_b,
+                             const PreflightLimits& limits) {
+  const bool uses_wheel_plane = config.stereo.max_below_ground_m > 0 ||
+                                config.stereo.search == DisparitySearch::ground_band;
+  if (!uses_wheel_plane) return;
+  const std::string why = std::string("the config takes z_B = 0 as the ground under the wheels (") +
+                          (config.stereo.max_below_ground_m > 0 ? "stereo.max_below_ground"
+                                                                : "stereo.search: ground_band") +
+                          ")";
+  const double h = median(body_h), tilt = median(tilt_b);
+  if (std::abs(h) > limits.max_body_height_m)
+    r.problems.push_back(fmt("the body origin is %.2f m ", std::abs(h)) +
+                         (h > 0 ? "above" : "below") +
+                         fmt(" the ground fitted to the points (more than %.2f m), but ",
+                             limits.max_body_height_m) +
+                         why + ": put B's origin on the ground (T_body_left's z is the camera's "
+                               "height), or for a body frame elsewhere (an IMU) set "
+                               "stereo.max_below_ground: 0 and stereo.search: full "
+                               "(docs/conventions.md)");
+  if (tilt > config.hazard.max_slope_deg)
+    r.problems.push_back(fmt("the ground fitted to the points is tilted %.1f deg from the body's "
+                             "x-y plane (more than hazard.max_slope_deg %.1f), but ",
+                             tilt, config.hazard.max_slope_deg) +
+                         why + ": z_B is not up; check T_body_left's rotation and the poses' body "
+                               "frame (docs/conventions.md)");
 }
 
 void add_problems(PreflightReport& r, const Config& config, const PreflightLimits& limits) {
@@ -245,7 +308,11 @@ void add_problems(PreflightReport& r, const Config& config, const PreflightLimit
   } else {
     const std::string tilt =
         ground_tilt_problem(median(tilt_w), median(tilt_b), config.hazard.max_slope_deg);
-    if (!tilt.empty()) out.push_back(tilt);
+    std::string hint;
+    for (const FrameCheck& f : r.frames)
+      if (hint.empty()) hint = f.scalar_first_hint;
+    if (!tilt.empty()) out.push_back(tilt + hint);
+    add_body_frame_problems(r, config, body_h, tilt_b, limits);
   }
 
   // Ground nearer than the search reaches gives no points: a problem when that strip is
@@ -270,13 +337,17 @@ void add_problems(PreflightReport& r, const Config& config, const PreflightLimit
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     double best = 0.0;
     for (const FrameCheck& f : r.frames) best = std::max(best, f.layer_share[i]);
-    if (best > 0.0) continue;
+    if (best >= limits.min_layer_share) continue;
     const auto& l = config.map.layers[i];
-    out.push_back("no point lands in layer " + std::to_string(i) +
-                  fmt(": its window is %.2f m (%.0f cells of %.3f m) around the body, the "
-                      "nearest points are %.2f m away (map.layers.",
-                      l.size * l.resolution_m, l.size, l.resolution_m, median(near_pt)) +
-                  std::to_string(i) + ".size)");
+    const double nearest = median(near_pt);
+    out.push_back((best > 0 ? fmt("only %.3f %% of the points land in layer ", 100 * best)
+                            : std::string("no point lands in layer ")) +
+                  std::to_string(i) +
+                  fmt(": its window is %.2f m (%.0f cells of %.3f m) around the body, ",
+                      l.size * l.resolution_m, l.size, l.resolution_m) +
+                  (std::isnan(nearest) ? std::string("and no frame gave a point")
+                                       : fmt("the nearest points are %.2f m away", nearest)) +
+                  " (map.layers." + std::to_string(i) + ".size)");
   }
 }
 
@@ -303,6 +374,9 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
   for (int k = 0; k < take; ++k)
     frames.push_back(selected[static_cast<size_t>(take == 1 ? 0 : k * (n - 1) / (take - 1))]);
   check_frame_images(frames, sequence.calibration);
+  // The geometry guards of `hazmap run`: here problems and warnings, not a stop.
+  for (const RigFinding& f : check_rig_geometry(sequence, frames))
+    (f.error ? report.problems : report.warnings).push_back(f.message);
 
   StereoFrontEnd front(config.stereo, config.sensor, sequence.calibration, /*keep_pixels=*/false);
   CalibrationCheck& c = report.calibration;
@@ -346,6 +420,7 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
     }
     c.rows.rms_px = std::sqrt(ss / static_cast<double>(dv.size()));
   }
+  add_search_fit_problems(report, config, front.builder().region(), limits);
   add_problems(report, config, limits);
   return report;
 }
@@ -365,8 +440,10 @@ std::string format_report(const PreflightReport& r) {
   else
     s += "rectification: no chessboard in view, row error not measured\n";
   s += format_row_offset(c.row_offset);
-  s += fmt("disparity search: [%.0f, %.0f) px; z_min %.2f m\n", r.search_min_disparity,
-           r.search_min_disparity + r.search_num_disparities, r.z_min_m);
+  s += fmt("disparity search: [%.0f, %.0f) px, no disparity in the leftmost %.0f %% of the "
+           "image; z_min %.2f m\n",
+           r.search_min_disparity, r.search_min_disparity + r.search_num_disparities,
+           100 * r.blanked_share, r.z_min_m);
   s += "frame         valid  points  below   ground  tilt W  tilt B  cam h   body h  "
        "near ground (m, px)  near pt  in layer windows\n";
   for (const FrameCheck& f : r.frames) {
@@ -379,13 +456,17 @@ std::string format_report(const PreflightReport& r) {
                   f.ground.found ? 100 * f.ground.inlier_share : 0.0, f.tilt_w_deg, f.tilt_body_deg,
                   f.camera_height_m, f.body_height_m, f.nearest_ground_distance_m,
                   f.nearest_ground_disparity_px, f.nearest_point_distance_m);
-    s += line;
+    // What was not measured (no ground plane, no point) reads "-", not "nan".
+    std::string text = line;
+    for (std::size_t at; (at = text.find("nan")) != std::string::npos;) text.replace(at, 3, "  -");
+    s += text;
     for (size_t i = 0; i < f.layer_share.size(); ++i)
       s += (i ? " L" : "L") + std::to_string(i) + fmt(" %.1f%%", 100 * f.layer_share[i]);
     s += "\n";
   }
   s += "  (valid: pixels with a disparity; below: points under the wheel plane, dropped; "
        "ground: points on the fitted plane; cam h / body h: left camera and body origin above it)\n";
+  for (const std::string& w : r.warnings) s += "warning: " + w + "\n";
   if (r.problems.empty()) {
     s += "verdict: OK\n";
   } else {

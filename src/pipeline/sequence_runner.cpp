@@ -14,7 +14,9 @@
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/output_writer.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/pipeline/empty_run.hpp"
 #include "hazmap/pipeline/preflight_check.hpp"
+#include "hazmap/pipeline/rig_geometry.hpp"
 #include "hazmap/stereo/ground_plane_fit.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
 #include "io/json_writer.hpp"
@@ -204,8 +206,9 @@ void warn_if_ground_tilted(const PointCloud& cloud, const SequenceFrame& frame,
       ground_tilt_problem(ground.tilt_deg(Eigen::Vector3d::UnitZ()),
                           ground.tilt_deg(T_W_B.linear().col(2)), config.hazard.max_slope_deg);
   if (!problem.empty())
-    spdlog::warn("frame {}: {} (a rover really standing on such a slope may ignore this)",
-                 frame.name, problem);
+    spdlog::warn("frame {}: {}{} (a rover really standing on such a slope may ignore this)",
+                 frame.name, problem,
+                 scalar_first_hint(calibration, T_W_B, ground.normal, config.hazard.max_slope_deg));
 }
 
 }  // namespace
@@ -217,6 +220,8 @@ SequenceRun::SequenceRun(const Config& config, const Sequence& sequence, const R
       frames_(options.frames.empty() ? sequence.frames
                                      : select_frames(sequence.frames, options.frames)) {
   check_frame_images(frames_, sequence.calibration);
+  // Geometry that cannot be right stops the run here; doubtful geometry is said in run().
+  rig_warnings_ = enforce_rig_geometry(check_rig_geometry(sequence, frames_));
   pipeline_ = std::make_unique<Pipeline>(config, sequence.calibration);
 }
 
@@ -239,6 +244,7 @@ RunResult SequenceRun::run() {
                g.baseline_m, g.cx_px, g.cy_px);
   if (const BandMatcher* band = pipeline.matcher().band())
     spdlog::info("ground band: {}", describe_strips(band->strips()));
+  for (const std::string& w : rig_warnings_) spdlog::warn("{}", w);
 
   RunResult result;
   RunState state;
@@ -263,6 +269,8 @@ RunResult SequenceRun::run() {
   const Progress progress(n);
   int last = -1;  // index of the last frame processed
   bool ground_checked = false;  // the first frame with points is checked for tilt
+  EmptyRunCounts drops;  // frames without a point: why (said if no frame has one)
+  const double fb = g.focal_px * g.baseline_m;
   for (int i = 0; i < n; ++i) {
     // A stop request ends the run between frames: the frame in flight was finished.
     if (stop_requested(options)) break;
@@ -286,6 +294,14 @@ RunResult SequenceRun::run() {
       if (!ground_checked && report.points > 0) {
         warn_if_ground_tilted(pipeline.cloud(), frame, sequence_.calibration, config);
         ground_checked = true;
+      }
+      if (report.points == 0) {
+        count_disparity_drops(pipeline.disparity_x16(), pipeline.builder().region(),
+                              pipeline.matcher().invalid_below(), fb / config.stereo.z_max_m,
+                              fb / config.stereo.z_min_m, drops);
+        drops.unsupported += report.disparities_unsupported;
+        drops.below_ground += report.points_below_ground;
+        drops.occluded += report.points_occluded;
       }
       rec.points = report.points;
       rec.ms = report.ms;
@@ -329,7 +345,7 @@ RunResult SequenceRun::run() {
   writer.finish();
   // A layer no point reached is all unknown, which looks like a map: say so (measured:
   // default.yaml on EuRoC's room left its 1.28 m layer empty in every frame, silently).
-  if (result.frames_processed > 0) {
+  if (result.frames_processed > 0 && result.points_total > 0) {  // else one line says why
     const auto& views = pipeline.layers();
     for (size_t i = 0; i < views.size(); ++i) {
       const DenseGrid& h = views[i].map.height;
@@ -343,6 +359,8 @@ RunResult SequenceRun::run() {
                    i, l.resolution_m, l.resolution_m * l.size, result.frames_processed, i);
     }
   }
+  if (result.frames_processed > 0 && result.points_total == 0)
+    result.no_points = no_points_message(drops);
   // Once, complete, after the last frame (or a requested stop, marked unfinished): a run
   // that fails must not replace an earlier run's summary.json with a partial one.
   state.finished = result.stop_signal == 0;

@@ -221,8 +221,8 @@ TEST(Cli, CalibrateBoardIsParsedFromLiveStrings) {
                             "00000000000000000000009x0000000000000000000000junk"}) {
     const CommandResult r = run_cli(std::string("calibrate --board ") + board + rest);
     EXPECT_EQ(r.exit_code, 2) << board << ": " << r.output;
-    EXPECT_EQ(r.output, std::string("hazmap: --board ") + board +
-                            ": expected inner corners as WxH, e.g. 9x6 (see hazmap --help)\n");
+    EXPECT_EQ(r.output, std::string("hazmap: error: --board ") + board +
+                            ": expected inner corners as WxH, e.g. 9x6 (see hazmap calibrate --help)\n");
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "c.yaml"));
 }

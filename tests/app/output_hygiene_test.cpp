@@ -86,7 +86,7 @@ TEST(OutputHygiene, RunRefusesANonEmptyOutAndLeavesItUntouched) {
   const CommandResult r = run_cli(run_args(dir / "seq", dir / "out") + " --frames 0:1");
   EXPECT_EQ(r.exit_code, 2) << r.output;  // a command-line mistake, like the other usage errors
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_EQ(r.output.rfind("hazmap: --out " + (dir / "out").string() + ": not empty (", 0), 0u)
+  EXPECT_EQ(r.output.rfind("hazmap: error: --out " + (dir / "out").string() + ": not empty (", 0), 0u)
       << r.output;
   EXPECT_NE(r.output.find("pass --overwrite to replace it"), std::string::npos) << r.output;
   EXPECT_EQ(snapshot(dir / "out"), before) << "OUT changed";  // byte for byte
@@ -246,7 +246,7 @@ TEST(OutputHygiene, SimulateRefusesANonEmptyOutAndOverwriteLeavesNoStaleFile) {
   r = run_cli(simulate_args(seq) + " --frames 2");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_EQ(r.output.rfind("hazmap: --out " + seq.string() + ": not empty (an earlier output: ", 0),
+  EXPECT_EQ(r.output.rfind("hazmap: error: --out " + seq.string() + ": not empty (an earlier output: ", 0),
             0u)
       << r.output;
   EXPECT_NE(r.output.find("pass --overwrite to replace it"), std::string::npos) << r.output;
@@ -287,7 +287,7 @@ TEST(OutputHygiene, SimulateRefusesAFolderHoldingOtherFilesEvenWithOverwrite) {
     const CommandResult r = run_cli(simulate_args(seq) + " --frames 1" + overwrite);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_EQ(count_lines(r.output), 1) << r.output;
-    EXPECT_EQ(r.output.rfind("hazmap: --out " + seq.string() +
+    EXPECT_EQ(r.output.rfind("hazmap: error: --out " + seq.string() +
                                  ": holds notes.txt, which hazmap simulate did not write; "
                                  "refusing to write there, --overwrite included",
                              0),
@@ -347,7 +347,7 @@ TEST(OutputHygiene, ImportEurocFollowsTheSameRule) {
   r = run_cli(import_args(dir / "two", seq));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_EQ(r.output.rfind("hazmap: DST " + seq.string() + ": not empty (an earlier output: ", 0),
+  EXPECT_EQ(r.output.rfind("hazmap: error: DST " + seq.string() + ": not empty (an earlier output: ", 0),
             0u)
       << r.output;
   EXPECT_NE(r.output.find("pass --overwrite"), std::string::npos) << r.output;

@@ -63,7 +63,7 @@ TEST(ViewCli, BadInputIsOneLineAndANonZeroExit) {
   // The command line: exit 2.
   for (const std::string args : {"view", "view a b", "view --frames 3 a", "view --out"}) {
     EXPECT_EQ(run_cli(args, dir / "out.txt", dir / "err.txt"), 2) << args;
-    EXPECT_NE(testing::read_text(dir / "err.txt").find("see hazmap --help"), std::string::npos)
+    EXPECT_NE(testing::read_text(dir / "err.txt").find("(see hazmap view --help)"), std::string::npos)
         << args;
   }
   // Not a run, or a damaged one: exit 1, one line naming the file, no page.

@@ -43,7 +43,7 @@ TEST(Config, DefaultsFillMissingSections) {
 
 TEST(Config, UnknownKeyIsNamedWithItsPathAndLine) {
   const std::string msg = config_error(std::string(kMinimal) + "stereo:\n  blok_size: 9\n");
-  EXPECT_EQ(msg, "test.yaml:7: unknown key 'stereo.blok_size'");
+  EXPECT_EQ(msg, "test.yaml:7: unknown key 'stereo.blok_size'; did you mean 'stereo.block_size'?");
 }
 
 TEST(Config, DuplicateKeysAreNamedWithTheirPathAndLine) {

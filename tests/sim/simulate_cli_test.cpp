@@ -88,7 +88,7 @@ TEST(SimulateCli, IntegerFlagsAreRangeCheckedBeforeTheCast) {
   for (const auto& c : cases) {
     const CommandResult r = simulate(std::string(c.args) + out);
     EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.output;
-    EXPECT_EQ(r.output, std::string("hazmap: ") + c.message + " (see hazmap --help)\n");
+    EXPECT_EQ(r.output, std::string("hazmap: error: ") + c.message + " (see hazmap simulate --help)\n");
   }
   const CommandResult r = simulate("--terrain-size 1e300 --quiet" + out);
   EXPECT_EQ(r.exit_code, 1) << r.output;

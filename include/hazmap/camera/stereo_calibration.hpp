@@ -30,6 +30,11 @@ struct CameraIntrinsics {
   std::vector<double> D;  ///< OpenCV distortion coefficients (k1 k2 p1 p2 [k3 ...]); empty = none
 };
 
+/// How T_body_left came to be, for the geometry guards' messages
+/// (pipeline/rig_geometry.hpp): set in code or derived (simulator, JPL models, EuRoC's
+/// T_BS), written as rpy_deg or as a quaternion, or left out (then the identity).
+enum class BodyPoseSource { code, rpy_deg, quaternion, absent };
+
 struct StereoCalibration {
   int image_width = 0;
   int image_height = 0;
@@ -38,6 +43,7 @@ struct StereoCalibration {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< x_right = R x_left + T
   Eigen::Vector3d T = Eigen::Vector3d::Zero();      ///< metres
   Pose3d T_B_C = Pose3d::Identity();                ///< left camera in body: p_B = T_B_C p_C
+  BodyPoseSource body_pose_source = BodyPoseSource::code;  ///< how T_B_C was given
   bool rectified = false;  ///< images are already rectified: no remapping
   /// JPL camera models {left, right} when calibration.yaml says `camera_model: cahv |
   /// cahvor | cahvore`; empty for OpenCV's pinhole + distortion. With models, K above is

@@ -48,6 +48,11 @@ struct Sequence {
   /// over the poses of the frames it keeps (what import_euroc writes to poses.txt). Empty
   /// for a Sequence assembled in code: fingerprint_of(sequence) then uses `frames`.
   std::optional<std::uint64_t> poses_fingerprint;
+  /// The file the poses came from, for messages ("" for a Sequence assembled in code).
+  std::string poses_source;
+  /// No pose source at all (an EuRoC folder without ground truth, read with
+  /// EurocOptions::identity_poses): every frame at the identity, W = B.
+  bool poses_assumed_identity = false;
 };
 
 /// Parses poses.txt content; `source` names the file in messages ("<source>:<line>: ...").

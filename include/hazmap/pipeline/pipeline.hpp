@@ -70,6 +70,7 @@ class Pipeline {
   const cv::Mat& rectified_right() const { return front_.rectified_right(); }
   const Rectifier& rectifier() const { return front_.rectifier(); }
   const DisparityMatcher& matcher() const { return front_.matcher(); }
+  const PointCloudBuilder& builder() const { return front_.builder(); }
 
  private:
   Config config_;

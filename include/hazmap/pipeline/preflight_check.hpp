@@ -40,6 +40,16 @@ struct PreflightLimits {
   double min_valid_disparity_share = 0.05;
   /// Share of points dropped as below the wheel plane (SPEC 3.3).
   double max_below_ground_share = 0.5;
+  /// Share of the matched region's width the search leaves blank: block matchers give
+  /// no disparity in the leftmost min_disparity + num_disparities columns.
+  double max_blanked_share = 0.3;
+  /// Body origin above (or below) the ground fitted to the points, when the config
+  /// takes z_B = 0 as the ground (stereo.max_below_ground, search: ground_band).
+  double max_body_height_m = 0.1;
+  /// A layer whose window (and lateral gate) takes less than this share of a frame's
+  /// points, in its best frame, maps nothing useful: a few points in a window's corner
+  /// (measured: default.yaml on EuRoC, 0.01 %) may miss the run's cell-aligned window.
+  double min_layer_share = 0.001;
 };
 
 struct RowErrorCheck {
@@ -89,6 +99,7 @@ struct FrameCheck {
   double nearest_ground_distance_m = 0.0;
   double nearest_point_distance_m = 0.0;  ///< horizontal, from the body origin; NaN: none
   std::vector<double> layer_share;  ///< share of points inside each layer's window
+  std::string scalar_first_hint;    ///< scalar_first_hint() of the ground, "" if none
 };
 
 struct PreflightReport {
@@ -98,8 +109,10 @@ struct PreflightReport {
   int search_min_disparity = 0;  ///< the matcher's range [min, min + num)
   int search_num_disparities = 0;
   double z_min_m = 0.0;
+  double blanked_share = 0.0;     ///< of the matched region's width, left blank by the search
   std::vector<FrameCheck> frames;
   std::vector<std::string> problems;  ///< one line each; empty: the verdict is OK
+  std::vector<std::string> warnings;  ///< doubtful but possible (check_rig_geometry's)
 };
 
 /// Runs the stereo front end on up to options.max_frames frames and fills the report.

@@ -30,6 +30,9 @@ struct RunResult {
   std::vector<std::filesystem::path> written;  ///< frame folders written
   int stop_signal = 0;        ///< non-zero: stopped early by this signal
   std::string stopped_after;  ///< then: the last frame processed (and written)
+  /// Not empty when no frame processed gave a point: why, and the setting most likely
+  /// wrong (no_points_message); `hazmap run` then exits non-zero.
+  std::string no_points;
 };
 
 class Pipeline;
@@ -59,6 +62,7 @@ class SequenceRun {
   RunOptions options_;
   std::vector<SequenceFrame> frames_;
   std::unique_ptr<Pipeline> pipeline_;
+  std::vector<std::string> rig_warnings_;  ///< check_rig_geometry's, logged by run()
 };
 
 /// SequenceRun(config, sequence, options).run().
