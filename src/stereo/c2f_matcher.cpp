@@ -141,6 +141,7 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
   scratch_.assign(static_cast<size_t>(strips_),
                   std::vector<std::int16_t>(2 * static_cast<size_t>(widest), kInf));
   confidence_.create(image, CV_8UC1);
+  pyramid_row_.assign(static_cast<size_t>(image.width), 0);
   valid_by_level_.assign(levels_.size(), 0);
 }
 
@@ -169,6 +170,26 @@ HAZMAP_KERNEL void hamming_window(std::uint64_t left, const std::uint64_t* right
 }  // namespace c2f_detail
 
 namespace {
+
+/// Half size with the [1 4 6 4 1] / 16 kernel in both directions, borders reflected
+/// (OpenCV's BORDER_REFLECT_101, as cv::pyrDown), rounded; `row`: src.cols ints.
+void pyramid_down(const cv::Mat& src, cv::Mat& dst, std::vector<int>& row) {
+  const int w = src.cols, h = src.rows;
+  auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
+  static constexpr int kTaps[5] = {1, 4, 6, 4, 1};
+  for (int y = 0; y < dst.rows; ++y) {
+    const std::uint8_t* r[5];
+    for (int t = 0; t < 5; ++t) r[t] = src.ptr<std::uint8_t>(reflect(2 * y - 2 + t, h));
+    for (int x = 0; x < w; ++x)
+      row[static_cast<size_t>(x)] = r[0][x] + 4 * r[1][x] + 6 * r[2][x] + 4 * r[3][x] + r[4][x];
+    std::uint8_t* out = dst.ptr<std::uint8_t>(y);
+    for (int x = 0; x < dst.cols; ++x) {
+      int sum = 0;
+      for (int t = 0; t < 5; ++t) sum += kTaps[t] * row[static_cast<size_t>(reflect(2 * x - 2 + t, w))];
+      out[x] = static_cast<std::uint8_t>((sum + 128) >> 8);
+    }
+  }
+}
 
 /// Census of every pixel of `src` (borders replicated into `pad`): bit per window pixel
 /// (row-major, centre skipped), set where it is darker than the centre.
@@ -412,8 +433,8 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
   L0.left = left;
   L0.right = right;
   for (size_t l = 1; l < levels_.size(); ++l) {
-    cv::pyrDown(levels_[l - 1].left, levels_[l].left, levels_[l].size);
-    cv::pyrDown(levels_[l - 1].right, levels_[l].right, levels_[l].size);
+    pyramid_down(levels_[l - 1].left, levels_[l].left, pyramid_row_);
+    pyramid_down(levels_[l - 1].right, levels_[l].right, pyramid_row_);
   }
   for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) match_level(l);
 

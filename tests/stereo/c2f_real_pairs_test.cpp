@@ -125,6 +125,25 @@ TEST(C2fRealPairs, K10FillsTheNearestBouldersFace) {
   const double face_share = valid_share(disp, invalid, face);
   std::printf("K10 nearest boulder's face: %.1f %% valid\n", 100 * face_share);
   EXPECT_GE(face_share, 0.80);
+
+  // Both near boulders are hazard in the fused map (rover at the origin looking along +x):
+  // the nearest 0.8-1.3 m ahead, the second 3.0-3.8 m ahead, slightly right (boxes read
+  // off the fused hazard PNG, a boulder's width wide).
+  const DenseGrid& fused = r.pipeline->fused_hazard();
+  auto hazard_cells = [&](double x0, double x1, double y0, double y1) {
+    int n = 0;
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col) {
+        const double x = fused.x_of_col(col), y = fused.y_of_row(row);
+        if (x >= x0 && x <= x1 && y >= y0 && y <= y1)
+          n += fused.at(row, col) == static_cast<float>(HazardClass::hazard);
+      }
+    return n;
+  };
+  const int nearest = hazard_cells(0.7, 1.4, -0.4, 0.4), second = hazard_cells(2.9, 3.9, -0.8, 0.2);
+  std::printf("K10 fused hazard cells: nearest boulder %d, second %d\n", nearest, second);
+  EXPECT_GE(nearest, 50);
+  EXPECT_GE(second, 50);
 }
 
 }  // namespace

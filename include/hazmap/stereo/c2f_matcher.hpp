@@ -1,7 +1,7 @@
 #pragma once
 // `stereo.matcher: c2f`: a coarse-to-fine census matcher with semi-global aggregation.
 //
-// An image pyramid (cv::pyrDown). At the coarsest level every pixel searches the whole
+// An image pyramid (the 5-tap Gaussian of cv::pyrDown, without its allocations). At the coarsest level every pixel searches the whole
 // range; at each finer level a pixel searches only +- radius around twice the coarser
 // level's disparity at its place. Every level: census transform (a bit per window pixel
 // darker than the centre: invariant to gain and offset), cost = differing bits
@@ -66,6 +66,7 @@ class C2fMatcher {
   int strips_ = 1;
   cv::Mat confidence_;
   cv::Mat speckle_buffer_;
+  std::vector<int> pyramid_row_;  // one source row, filtered vertically
   std::vector<std::size_t> valid_by_level_;
 };
 
