@@ -191,6 +191,7 @@ void check_cross_key_rules(const Config& c) {
   if (s.sgbm_p2 != 0 && s.sgbm_p2 <= s.sgbm_p1)
     invalid("stereo.sgbm_p2", "must be greater than sgbm_p1");
   if (!(s.z_max_m > s.z_min_m)) invalid("stereo.z_max", "must be greater than stereo.z_min");
+  if (s.c2f.paths != 4 && s.c2f.paths != 8) invalid("stereo.c2f.paths", "must be 4 or 8");
   // Without pointing error the covariance is singular: every det weight would be infinite.
   if (c.rules.ccm.weighting == CcmWeighting::det && !(c.sensor.pointing_error_px > 0))
     invalid("rules.ccm.weighting", "'det' needs sensor.pointing_error_px > 0 (singular covariance)");

@@ -82,7 +82,7 @@ std::string ValueCheck::message() const {
 const std::vector<TopKey>& config_keys() {
   static const std::vector<TopKey> keys = {
       // stereo (SPEC 3)
-      {"stereo.matcher", CONFIG_FIELD(stereo.matcher), "", "`bm` (cv::StereoBM) or `sgbm` (cv::StereoSGBM)", {}},
+      {"stereo.matcher", CONFIG_FIELD(stereo.matcher), "", "`bm` (cv::StereoBM), `sgbm` (cv::StereoSGBM) or `c2f` (ours: census cost, semi-global aggregation, coarse to fine; `stereo.c2f.*`, [docs/stereo.md](docs/stereo.md)). c2f searches `[min_disparity, min(min_disparity + num_disparities, f B / z_min))`", {}},
       {"stereo.num_disparities", CONFIG_FIELD(stereo.num_disparities), "px",
        "search range, multiple of 16; must cover the nearest ground (d = f B / z) or it is mismatched: level, the 0.4-scale image bottom needs 122 px, pitched down a 15-20 deg slope > 150 px",
        {multiple_of(16, above(0, "must be a positive multiple of 16"))}, false, "shipped 0.4-scale configs 160"},
@@ -151,6 +151,16 @@ const std::vector<TopKey>& config_keys() {
       {"stereo.row_offset_px", CONFIG_FIELD(stereo.row_offset), "px",
        "rows the rectified right image is moved down so that its rows agree with the left's (y_left - y_right of the rectified pair, as `hazmap check` measures it from feature matches; [docs/stereo.md](docs/stereo.md)): a residual calibration error. `auto`: measured once, from the first frame with enough matches. 0 off",
        {finite("must be a number of pixels in [-100, 100] or `auto`", -100, 100)}},
+      {"stereo.c2f.levels", CONFIG_FIELD(stereo.c2f.levels), "", "c2f: pyramid levels; the full-range search runs at 1/2^(levels - 1) of the resolution, each finer level refines", {in(1, 6, "[]")}},
+      {"stereo.c2f.radius", CONFIG_FIELD(stereo.c2f.radius), "px", "c2f: a finer level searches +- this around twice the coarser level's disparity", {in(1, 7, "[]")}},
+      {"stereo.c2f.census_width", CONFIG_FIELD(stereo.c2f.census_width), "px", "c2f: census window width (a bit per window pixel but the centre: at most 9 x 7)", {odd_in(3, 9, "must be odd and in [3, 9]")}},
+      {"stereo.c2f.census_height", CONFIG_FIELD(stereo.c2f.census_height), "px", "c2f: census window height", {odd_in(1, 7, "must be odd and in [1, 7]")}},
+      {"stereo.c2f.p1", CONFIG_FIELD(stereo.c2f.p1), "bits", "c2f: semi-global penalty for a 1 px disparity step (census cost: differing bits)", {in(0, 1000, "[]")}},
+      {"stereo.c2f.p2", CONFIG_FIELD(stereo.c2f.p2), "bits", "c2f: semi-global penalty for a larger step (normally >= p1)", {in(0, 4000, "[]")}},
+      {"stereo.c2f.paths", CONFIG_FIELD(stereo.c2f.paths), "", "c2f: aggregation paths, 4 (along rows and columns, in parallel strips) or 8 (also diagonals, serial)", {in(4, 8, "[]")}},
+      {"stereo.c2f.lr_max_diff", CONFIG_FIELD(stereo.c2f.lr_max_diff), "px", "c2f: left-right check at every level; -1 off", {at_least(-1)}},
+      {"stereo.c2f.uniqueness", CONFIG_FIELD(stereo.c2f.uniqueness), "%", "c2f: at the full-range level a pixel's best cost must be below (100 - this) % of the best more than 1 px away", {in(0, 99, "[]")}},
+      {"stereo.c2f.fill_unseeded", CONFIG_FIELD(stereo.c2f.fill_unseeded), "", "c2f: a pixel the coarser level left invalid is searched around the background of its row (the smaller of the nearest seeds to its left and right); false: it stays invalid"},
       // sensor (SPEC 4)
       {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}},
       {"sensor.pointing_error_px", CONFIG_FIELD(sensor.pointing_error_px), "px", "pixel noise p", {at_least(0)}},

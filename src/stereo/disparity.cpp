@@ -5,6 +5,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
+#include "hazmap/stereo/c2f_matcher.hpp"
 #include "hazmap/stereo/ground_band.hpp"
 
 namespace hazmap {
@@ -12,6 +13,9 @@ namespace hazmap {
 cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& c, int min_disparity,
                                                  int num_disparities, bool speckle_filter) {
   const int speckle_window = speckle_filter ? c.speckle_window : 0;
+  if (c.matcher == StereoMatcher::c2f)
+    throw Error("config: key 'stereo.matcher': c2f is not an OpenCV matcher (it needs the "
+                "rectified geometry and stereo.search: full)");
   if (c.matcher == StereoMatcher::bm) {
     auto bm = cv::StereoBM::create(num_disparities, c.block_size);
     bm->setMinDisparity(min_disparity);
@@ -53,6 +57,13 @@ int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometr
   return std::min(physical, image);
 }
 
+int c2f_disparity_end(const StereoConfig& c, const StereoGeometry& geometry, int width) {
+  const double nearest = geometry.focal_px * geometry.baseline_m / c.z_min_m + 2;
+  const long long end = std::min<long long>(static_cast<long long>(c.min_disparity) + c.num_disparities,
+                                            static_cast<long long>(std::ceil(nearest)));
+  return static_cast<int>(std::min<long long>(end, width));
+}
+
 DisparityMatcher::DisparityMatcher(const StereoConfig& c)
     : matcher_(create_stereo_matcher(c, c.min_disparity, c.num_disparities, true)),
       min_disparity_(c.min_disparity),
@@ -85,6 +96,16 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& 
     : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
       searched_num_(c.num_disparities) {
   check_against_image(c, image_size);
+  if (c.matcher == StereoMatcher::c2f) {
+    if (c.search != DisparitySearch::full)
+      throw Error("config: key 'stereo.search': ground_band works with bm and sgbm; c2f "
+                  "narrows its own search (stereo.c2f.*)");
+    const int end = c2f_disparity_end(c, geometry, image_size.width);
+    c2f_ = std::make_unique<C2fMatcher>(c.c2f, c.min_disparity, end, image_size,
+                                        c.speckle_window, c.speckle_range);
+    searched_num_ = end - c.min_disparity;
+    return;
+  }
   if (c.search == DisparitySearch::full) {
     matcher_ = create_stereo_matcher(c, c.min_disparity, c.num_disparities, true);
     return;
@@ -119,7 +140,9 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     throw Error("disparity: expected 8-bit grey rectified images");
   if (left.size() != right.size())
     throw Error("disparity: left and right images differ in size");
-  if (band_)
+  if (c2f_)
+    c2f_->compute(left, right, disparity_x16);
+  else if (band_)
     band_->compute(left, right, disparity_x16);
   else
     matcher_->compute(left, right, disparity_x16);

@@ -59,7 +59,8 @@ TEST(ConfigSchema, EveryStructMemberHasAKey) {
       member_count<StereoConfig>() + member_count<SensorConfig>() + member_count<MapConfig>() +
       member_count<KalmanConfig>() + member_count<OmgConfig>() + member_count<CcmConfig>() +
       member_count<HazardConfig>() + member_count<PoseUncertaintyConfig>() +
-      member_count<OutputConfig>();
+      member_count<OutputConfig>() +
+      member_count<C2fConfig>() - 1;  // StereoConfig::c2f: a key per member, none for itself
   EXPECT_EQ(config_keys().size(), members);  // map.layers is MapConfig::layers' entry
   EXPECT_EQ(layer_keys().size(), member_count<LayerConfig>() - 1 + member_count<LayerHazardConfig>());
   EXPECT_EQ(member_count<RulesConfig>(), 3u);

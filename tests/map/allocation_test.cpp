@@ -17,6 +17,7 @@
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/stereo/c2f_matcher.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 #include "test_support.hpp"
 
@@ -198,6 +199,24 @@ TEST(Allocation, TheDirectPointsStageAllocatesNothingOnceWarm) {
                              CcmWeighting::trace, points);
   EXPECT_EQ(g_news.load() - before, 0);
   EXPECT_GT(points.size(), 10000);
+}
+
+// The c2f matcher sizes every buffer at construction (issue 32): a second and third
+// pair allocate nothing, through pyramid, census, aggregation, checks and speckle filter.
+TEST(Allocation, TheC2fMatcherAllocatesNothingOnceWarm) {
+  const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
+  const Config config = load_config(testing::source_dir() / "config/default.yaml");
+  StereoFrontEnd front(config.stereo, config.sensor, seq.calibration, false);
+  const auto& f = seq.frames.front();
+  front.process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
+  const cv::Mat left = front.rectified_left().clone(), right = front.rectified_right().clone();
+  C2fMatcher matcher(C2fConfig{}, 0, 160, left.size(), 100, 2);
+  cv::Mat disparity;
+  matcher.compute(left, right, disparity);
+  const long before = g_news.load();
+  for (int i = 0; i < 2; ++i) matcher.compute(left, right, disparity);
+  EXPECT_EQ(g_news.load() - before, 0);
+  EXPECT_GT(cv::countNonZero(disparity > 0), static_cast<int>(disparity.total() / 2));
 }
 
 }  // namespace

@@ -15,10 +15,10 @@
 namespace hazmap {
 
 /// stereo.matcher: cv::StereoBM or cv::StereoSGBM.
-enum class StereoMatcher { bm, sgbm };
+enum class StereoMatcher { bm, sgbm, c2f };
 template <>
 struct EnumNames<StereoMatcher> {
-  static constexpr const char* names[] = {"bm", "sgbm"};
+  static constexpr const char* names[] = {"bm", "sgbm", "c2f"};
 };
 
 /// stereo.sgbm_mode: cv::StereoSGBM's MODE_SGBM, MODE_HH, MODE_SGBM_3WAY, MODE_HH4.
@@ -65,6 +65,21 @@ struct RowOffsetSetting {
 
 /// Largest stereo.stride validate() accepts (pixels).
 constexpr int kMaxStride = 4096;
+
+/// `stereo.matcher: c2f` (c2f_matcher.hpp): census cost, semi-global aggregation, coarse to
+/// fine over an image pyramid.
+struct C2fConfig {
+  int levels = 3;          ///< pyramid levels; the full-range search runs at 1/2^(levels-1)
+  int radius = 2;          ///< finer levels search +- radius px around the upsampled seed
+  int census_width = 9;    ///< census window (odd; width x height - 1 <= 64 bits)
+  int census_height = 7;
+  int p1 = 32;             ///< SGM penalty for a 1 px disparity step (census bits)
+  int p2 = 200;            ///< SGM penalty for a larger step (census bits), >= p1
+  int paths = 4;           ///< SGM paths: 4 (rows and columns) or 8 (and diagonals)
+  int lr_max_diff = 1;     ///< left-right check at every level [px]; -1 off
+  int uniqueness = 5;      ///< coarse level: best cost < (100 - this)% of the second best
+  bool fill_unseeded = false;  ///< seed pixels without a coarse disparity from their row
+};
 
 struct StereoConfig {
   StereoMatcher matcher = StereoMatcher::bm;
@@ -134,6 +149,7 @@ struct StereoConfig {
   double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
   double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
   RowOffsetSetting row_offset;      ///< stereo.row_offset_px
+  C2fConfig c2f;
 };
 
 struct SensorConfig {

@@ -8,6 +8,8 @@
 // x 16; values <= 16 * min_disparity are invalid (SPEC 3.2).
 // Matching runs on OpenCV's thread pool (cv::setNumThreads): StereoBM splits the image
 // in stripes, SGBM in its sgbm_3way and hh4 modes; sgbm and hh are single-threaded.
+// `stereo.matcher: c2f` is ours (c2f_matcher.hpp), same output format; it needs the
+// rectified geometry (its range ends at f B / z_min) and does a full search only.
 // `stereo.search: ground_band` (SPEC 3.4) matches horizontal strips over the disparities
 // terrain can produce there instead (band_matcher.hpp), strips in parallel.
 
@@ -23,11 +25,12 @@
 namespace hazmap {
 
 class BandMatcher;
+class C2fMatcher;
 
 /// A cv::StereoBM or cv::StereoSGBM with every knob of `config` except the range, which
 /// is [min_disparity, min_disparity + num_disparities); `speckle_filter` false leaves the
 /// speckle filter off. Throws Error naming the key for an unknown matcher, mode or
-/// pre-filter type.
+/// pre-filter type, or for c2f (not an OpenCV matcher).
 cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& config, int min_disparity,
                                                  int num_disparities, bool speckle_filter);
 
@@ -37,6 +40,10 @@ cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& config, int
 /// column to match in an image `width` wide (width - block_size + 1, rounded down).
 int band_disparity_cap(const StereoConfig& config, const StereoGeometry& geometry, int width);
 
+/// The end of c2f's search (exclusive): min_disparity + num_disparities, or f B / z_min
+/// rounded up plus the sub-pixel margin where that is smaller; at most `width`.
+int c2f_disparity_end(const StereoConfig& config, const StereoGeometry& geometry, int width);
+
 /// Throws Error naming the key when the stereo settings cannot fit a `image`-sized
 /// rectified image: min_disparity + num_disparities wider than it, or an roi reaching
 /// outside it.
@@ -44,8 +51,9 @@ void check_against_image(const StereoConfig& config, cv::Size image);
 
 class DisparityMatcher {
  public:
-  /// Full search only. Throws Error naming the key for an unknown matcher, mode or
-  /// pre-filter type, or for `search: ground_band` (it needs the camera's pose).
+  /// Full search only, bm / sgbm only. Throws Error naming the key for an unknown matcher,
+  /// mode or pre-filter type, for c2f or for `search: ground_band` (both need the
+  /// camera's geometry).
   explicit DisparityMatcher(const StereoConfig& config);
 
   /// Either search. `geometry`: the rectified pair; `T_B_Cr`: the rectified left camera
@@ -68,6 +76,8 @@ class DisparityMatcher {
   int num_disparities() const { return searched_num_; }
   /// The strip matcher of `search: ground_band`, nullptr for a full search.
   const BandMatcher* band() const { return band_.get(); }
+  /// The coarse-to-fine matcher of `matcher: c2f`, nullptr for bm / sgbm.
+  const C2fMatcher* c2f() const { return c2f_.get(); }
   /// Per image row (`rows` of them), the end of the disparities searched there (exclusive,
   /// px): min_disparity + num_disparities for a full search, the row's strip's end for
   /// ground_band (0 where a strip searches nothing). A surface nearer than f B / end
@@ -77,6 +87,7 @@ class DisparityMatcher {
  private:
   cv::Ptr<cv::StereoMatcher> matcher_;
   std::unique_ptr<BandMatcher> band_;
+  std::unique_ptr<C2fMatcher> c2f_;
   int min_disparity_ = 0;
   int searched_min_ = 0;
   int searched_num_ = 0;

@@ -1,0 +1,466 @@
+#include "hazmap/stereo/c2f_matcher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "stereo/c2f_kernels.hpp"
+#include "hazmap/core/error.hpp"
+#include "hazmap/map/internal/simd.hpp"
+
+namespace hazmap {
+
+using c2f::kInf;
+using c2f::kLanes;
+using c2f::kPad;
+
+namespace {
+
+/// dmin of a pixel without a window (no seed from the coarser level).
+constexpr std::int16_t kNoSeed = std::numeric_limits<std::int16_t>::min();
+
+int round_up(int v, int q) { return (v + q - 1) / q * q; }
+
+/// cv::parallel_for_ without its std::function wrapper, which allocates for a lambda
+/// capturing more than a pointer or two (compute() allocates nothing).
+template <class F>
+class Body : public cv::ParallelLoopBody {
+ public:
+  explicit Body(const F& f) : f_(f) {}
+  void operator()(const cv::Range& r) const override { f_(r); }
+
+ private:
+  const F& f_;
+};
+template <class F>
+void parallel_rows(cv::Range range, const F& f) {
+  cv::parallel_for_(range, Body<F>(f));
+}
+
+/// Splits [0, n) into `parts` nearly equal pieces; piece i.
+cv::Range piece(int n, int parts, int i) {
+  return {static_cast<int>(static_cast<long long>(n) * i / parts),
+          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
+}
+
+}  // namespace
+
+struct C2fMatcher::Level {
+  cv::Size size;
+  int lo = 0, hi = 0;  // disparities [lo, hi) at this level
+  int n = 0;           // disparities per pixel window
+  int npad = 0;        // n rounded up to kLanes
+  int stride = 0;      // a padded path-cost vector: kPad + npad + kPad
+  bool full = false;   // the coarsest level: every pixel searches [lo, hi)
+  cv::Mat left, right;            // CV_8U
+  cv::Mat left_pad, right_pad;    // borders replicated for the census window
+  std::vector<std::uint64_t> census_l, census_r;
+  std::vector<std::int16_t> dmin;     // per pixel; kNoSeed: no window
+  std::vector<std::uint8_t> cost;     // per pixel npad lanes
+  std::vector<std::uint16_t> sum;     // per pixel npad lanes, summed over paths
+  std::vector<float> disp;            // result [px of this level], < 0 invalid
+  std::vector<std::int16_t> winner;   // its whole-pixel winner, for the left-right check
+  std::vector<std::uint8_t> conf;     // full level: confidence x 255
+  std::vector<int> right_s;           // LR: per right pixel the lowest sum ...
+  std::vector<std::int16_t> right_d;  // ... and its disparity
+  std::vector<std::int16_t> state;    // column / diagonal passes: 2 rows of W padded vectors
+  std::vector<int> state_min;         // 2 x W
+  std::vector<std::int16_t> pad_mask; // kLanes: 0 below n % npad, kInf above
+};
+
+C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_disparity,
+                       cv::Size image, int speckle_window, int speckle_range,
+                       C2fKernels kernels)
+    : config_(config),
+      min_disparity_(min_disparity),
+      end_disparity_(end_disparity),
+      speckle_window_(speckle_window),
+      speckle_range_(speckle_range),
+      avx2_(kernels == C2fKernels::best && c2f::avx2_available()) {
+  if (end_disparity <= min_disparity + 1)
+    throw Error("config: key 'stereo.num_disparities': the c2f search range [" +
+                std::to_string(min_disparity) + ", " + std::to_string(end_disparity) +
+                ") is empty (stereo.z_min too far or num_disparities too small)");
+  if (config.radius * 2 + 1 > kLanes - 1)
+    throw Error("config: key 'stereo.c2f.radius': at most " + std::to_string((kLanes - 2) / 2));
+  const int bits = config.census_width * config.census_height - 1;
+  if (bits > 64 || bits < 1)
+    throw Error("config: key 'stereo.c2f.census_height': census_width x census_height - 1 must "
+                "be in [1, 64] bits");
+  const int shrink = 1 << (config.levels - 1);
+  if (image.width / shrink < config.census_width || image.height / shrink < config.census_height)
+    throw Error("config: key 'stereo.c2f.levels': " + std::to_string(config.levels) +
+                " levels shrink the " + std::to_string(image.width) + "x" +
+                std::to_string(image.height) + " image below the census window");
+
+  levels_.resize(static_cast<size_t>(config.levels));
+  cv::Size size = image;
+  for (int l = 0; l < config.levels; ++l) {
+    Level& L = levels_[static_cast<size_t>(l)];
+    L.size = size;
+    L.full = l == config.levels - 1;
+    L.lo = min_disparity >> l;
+    L.hi = std::min((end_disparity + (1 << l) - 1) / (1 << l) + (L.full ? 0 : 1), size.width);
+    L.n = L.full ? L.hi - L.lo : std::min(2 * config.radius + 1, L.hi - L.lo);
+    if (L.n < 2)
+      throw Error("config: key 'stereo.c2f.levels': level " + std::to_string(l) +
+                  " has no disparities to search");
+    L.npad = round_up(L.n, kLanes);
+    L.stride = kPad + L.npad + kPad;
+    const size_t pixels = static_cast<size_t>(size.area());
+    if (l > 0) {
+      L.left.create(size, CV_8UC1);
+      L.right.create(size, CV_8UC1);
+    }
+    const int rw = config.census_width / 2, rh = config.census_height / 2;
+    L.left_pad.create(size.height + 2 * rh, size.width + 2 * rw, CV_8UC1);
+    L.right_pad.create(size.height + 2 * rh, size.width + 2 * rw, CV_8UC1);
+    L.census_l.assign(pixels, 0);
+    L.census_r.assign(pixels, 0);
+    L.dmin.assign(pixels, static_cast<std::int16_t>(L.lo));
+    L.cost.assign(pixels * static_cast<size_t>(L.npad), 0);
+    L.sum.assign(pixels * static_cast<size_t>(L.npad), 0);
+    L.disp.assign(pixels, -1.f);
+    L.winner.assign(pixels, 0);
+    if (L.full) L.conf.assign(pixels, 0);
+    L.right_s.assign(pixels, 0);
+    L.right_d.assign(pixels, 0);
+    L.state.assign(2 * static_cast<size_t>(size.width) * static_cast<size_t>(L.stride), kInf);
+    L.state_min.assign(2 * static_cast<size_t>(size.width), 0);
+    L.pad_mask.assign(kLanes, 0);
+    for (int k = L.n - (L.npad - kLanes); k < kLanes; ++k)
+      L.pad_mask[static_cast<size_t>(std::max(k, 0))] = kInf;
+    size = cv::Size((size.width + 1) / 2, (size.height + 1) / 2);
+  }
+  strips_ = std::max(1, cv::getNumThreads()) * 2;
+  int widest = 0;
+  for (const Level& L : levels_) widest = std::max(widest, L.stride);
+  scratch_.assign(static_cast<size_t>(strips_),
+                  std::vector<std::int16_t>(2 * static_cast<size_t>(widest), kInf));
+  confidence_.create(image, CV_8UC1);
+  pyramid_row_.assign(static_cast<size_t>(image.width), 0);
+  valid_by_level_.assign(levels_.size(), 0);
+}
+
+C2fMatcher::~C2fMatcher() = default;
+C2fMatcher::C2fMatcher(C2fMatcher&&) noexcept = default;
+C2fMatcher& C2fMatcher::operator=(C2fMatcher&&) noexcept = default;
+
+namespace c2f_detail {
+
+/// Appends one census bit per pixel: other[x] darker than centre[x].
+HAZMAP_KERNEL void census_bit(const std::uint8_t* other, const std::uint8_t* centre, int width,
+                              std::uint64_t* code) {
+  for (int x = 0; x < width; ++x)
+    code[x] = (code[x] << 1) | static_cast<std::uint64_t>(other[x] < centre[x]);
+}
+
+/// cost[k] = differing bits of `left` and right[xr0 - k], `bits` where xr0 - k < 0.
+HAZMAP_KERNEL void hamming_window(std::uint64_t left, const std::uint64_t* right, int xr0, int n,
+                                  int bits, std::uint8_t* cost) {
+  for (int k = 0; k < n; ++k) {
+    const int xr = xr0 - k;
+    cost[k] = static_cast<std::uint8_t>(xr >= 0 ? __builtin_popcountll(left ^ right[xr]) : bits);
+  }
+}
+
+}  // namespace c2f_detail
+
+namespace {
+
+/// Half size with the [1 4 6 4 1] / 16 kernel in both directions, borders reflected
+/// (OpenCV's BORDER_REFLECT_101, as cv::pyrDown), rounded; `row`: src.cols ints.
+void pyramid_down(const cv::Mat& src, cv::Mat& dst, std::vector<int>& row) {
+  const int w = src.cols, h = src.rows;
+  auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
+  static constexpr int kTaps[5] = {1, 4, 6, 4, 1};
+  for (int y = 0; y < dst.rows; ++y) {
+    const std::uint8_t* r[5];
+    for (int t = 0; t < 5; ++t) r[t] = src.ptr<std::uint8_t>(reflect(2 * y - 2 + t, h));
+    for (int x = 0; x < w; ++x)
+      row[static_cast<size_t>(x)] = r[0][x] + 4 * r[1][x] + 6 * r[2][x] + 4 * r[3][x] + r[4][x];
+    std::uint8_t* out = dst.ptr<std::uint8_t>(y);
+    for (int x = 0; x < dst.cols; ++x) {
+      int sum = 0;
+      for (int t = 0; t < 5; ++t) sum += kTaps[t] * row[static_cast<size_t>(reflect(2 * x - 2 + t, w))];
+      out[x] = static_cast<std::uint8_t>((sum + 128) >> 8);
+    }
+  }
+}
+
+/// Census of every pixel of `src` (borders replicated into `pad`): bit per window pixel
+/// (row-major, centre skipped), set where it is darker than the centre.
+void census(const cv::Mat& src, cv::Mat& pad, int cw, int ch, std::vector<std::uint64_t>& out) {
+  const int rw = cw / 2, rh = ch / 2;
+  cv::copyMakeBorder(src, pad, rh, rh, rw, rw, cv::BORDER_REPLICATE);
+  const int width = src.cols;
+  parallel_rows(cv::Range(0, src.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      std::uint64_t* code = out.data() + static_cast<size_t>(y) * static_cast<size_t>(width);
+      const std::uint8_t* centre = pad.ptr<std::uint8_t>(y + rh) + rw;
+      std::fill(code, code + width, 0);
+      for (int dy = -rh; dy <= rh; ++dy) {
+        const std::uint8_t* row = pad.ptr<std::uint8_t>(y + rh + dy) + rw;
+        for (int dx = -rw; dx <= rw; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          c2f_detail::census_bit(row + dx, centre, width, code);
+        }
+      }
+    }
+  });
+}
+
+}  // namespace
+
+void C2fMatcher::seed_level(int l) {
+  Level& L = levels_[static_cast<size_t>(l)];
+  if (L.full) {
+    std::fill(L.dmin.begin(), L.dmin.end(), static_cast<std::int16_t>(L.lo));
+    return;
+  }
+  const Level& C = levels_[static_cast<size_t>(l + 1)];
+  const int w = L.size.width, cw = C.size.width;
+  const int r = config_.radius;
+  const int top = L.hi - L.n;
+  parallel_rows(cv::Range(0, L.size.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* coarse = C.disp.data() + static_cast<size_t>(y / 2) * static_cast<size_t>(cw);
+      std::int16_t* dmin = L.dmin.data() + static_cast<size_t>(y) * static_cast<size_t>(w);
+      for (int x = 0; x < w; ++x) {
+        const float d = coarse[x / 2];
+        dmin[x] = d < 0 ? kNoSeed
+                        : static_cast<std::int16_t>(
+                              std::clamp(static_cast<int>(std::lround(2 * d)) - r, L.lo, top));
+      }
+      if (!config_.fill_unseeded) continue;
+      // A hole takes the smaller of the nearest windows left and right of it: occlusions
+      // and untextured gaps are mostly background.
+      int x = 0;
+      while (x < w) {
+        if (dmin[x] != kNoSeed) { ++x; continue; }
+        int end = x;
+        while (end < w && dmin[end] == kNoSeed) ++end;
+        const int left = x > 0 ? dmin[x - 1] : std::numeric_limits<int>::max();
+        const int right = end < w ? dmin[end] : std::numeric_limits<int>::max();
+        const int fill = std::min(left, right);
+        if (fill != std::numeric_limits<int>::max())
+          std::fill(dmin + x, dmin + end, static_cast<std::int16_t>(fill));
+        x = end;
+      }
+    }
+  });
+}
+
+void C2fMatcher::match_level(int l) {
+  Level& L = levels_[static_cast<size_t>(l)];
+  const int w = L.size.width, h = L.size.height;
+  const int n = L.n, npad = L.npad, stride = L.stride;
+  const int bits = config_.census_width * config_.census_height - 1;
+  census(L.left, L.left_pad, config_.census_width, config_.census_height, L.census_l);
+  census(L.right, L.right_pad, config_.census_width, config_.census_height, L.census_r);
+  seed_level(l);
+
+  auto at = [&](int x, int y) { return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x); };
+
+  // Costs, and the sums zeroed.
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const std::uint64_t* cl = L.census_l.data() + at(0, y);
+      const std::uint64_t* cr = L.census_r.data() + at(0, y);
+      for (int x = 0; x < w; ++x) {
+        std::uint8_t* c = L.cost.data() + at(x, y) * static_cast<size_t>(npad);
+        std::fill(L.sum.data() + at(x, y) * static_cast<size_t>(npad),
+                  L.sum.data() + (at(x, y) + 1) * static_cast<size_t>(npad), 0);
+        const int d0 = L.dmin[at(x, y)];
+        if (d0 == kNoSeed) continue;
+        c2f_detail::hamming_window(cl[x], cr, x - d0, n, bits, c);
+      }
+    }
+  });
+
+  c2f::StepParams sp;
+  sp.n = n;
+  sp.npad = npad;
+  sp.p1 = config_.p1;
+  sp.p2 = config_.p2;
+  sp.pad_mask = L.pad_mask.data();
+  const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
+
+  // Along rows, both ways: rows in strips.
+  parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
+    for (int s = range.start; s < range.end; ++s) {
+      std::vector<std::int16_t>& buffer = scratch_[static_cast<size_t>(s)];
+      std::fill(buffer.begin(), buffer.end(), kInf);  // another level's lanes
+      std::int16_t* a = buffer.data() + kPad;
+      std::int16_t* b = a + stride;
+      const cv::Range rows = piece(h, strips_, s);
+      for (int y = rows.start; y < rows.end; ++y) {
+        for (int dir = 0; dir < 2; ++dir) {
+          const int x0 = dir == 0 ? 0 : w - 1, dx = dir == 0 ? 1 : -1;
+          std::int16_t* prev = a;
+          std::int16_t* cur = b;
+          bool has_prev = false;
+          int prev_min = 0, prev_dmin = 0;
+          for (int i = 0, x = x0; i < w; ++i, x += dx) {
+            const size_t p = at(x, y);
+            const int d0 = L.dmin[p];
+            if (d0 == kNoSeed) { has_prev = false; continue; }
+            prev_min = step(has_prev ? prev : nullptr, prev_min, d0 - prev_dmin,
+                            L.cost.data() + p * static_cast<size_t>(npad), sp, cur,
+                            L.sum.data() + p * static_cast<size_t>(npad));
+            prev_dmin = d0;
+            has_prev = true;
+            std::swap(prev, cur);
+          }
+        }
+      }
+    }
+  });
+
+  // Down and up the columns (and diagonals with 8 paths): rows in order, each row's
+  // pixels from the row before; column strips in parallel, diagonals serial.
+  auto vertical = [&](int dx, int dy, cv::Range cols) {
+    std::int16_t* rowbuf[2] = {L.state.data() + kPad,
+                               L.state.data() + kPad + static_cast<size_t>(w) * stride};
+    int* rowmin[2] = {L.state_min.data(), L.state_min.data() + w};
+    const int y0 = dy > 0 ? 0 : h - 1;
+    // Which pixels of the previous row have a path cost: dmin != kNoSeed there and the
+    // row exists.
+    for (int i = 0, y = y0; i < h; ++i, y += dy) {
+      std::int16_t* prev = rowbuf[(i + 1) & 1];
+      std::int16_t* cur = rowbuf[i & 1];
+      int* pmin = rowmin[(i + 1) & 1];
+      int* cmin = rowmin[i & 1];
+      const int yq = y - dy;
+      for (int x = cols.start; x < cols.end; ++x) {
+        const size_t p = at(x, y);
+        const int d0 = L.dmin[p];
+        if (d0 == kNoSeed) continue;
+        const int xq = x - dx;
+        const bool has_prev = i > 0 && xq >= 0 && xq < w && L.dmin[at(xq, yq)] != kNoSeed;
+        const int qd0 = has_prev ? L.dmin[at(xq, yq)] : 0;
+        cmin[x] = step(has_prev ? prev + static_cast<size_t>(xq) * stride : nullptr,
+                       has_prev ? pmin[xq] : 0, d0 - qd0,
+                       L.cost.data() + p * static_cast<size_t>(npad), sp,
+                       cur + static_cast<size_t>(x) * stride,
+                       L.sum.data() + p * static_cast<size_t>(npad));
+      }
+    }
+  };
+  for (int dy : {1, -1}) {
+    parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
+      for (int s = range.start; s < range.end; ++s) vertical(0, dy, piece(w, strips_, s));
+    });
+  }
+  if (config_.paths == 8)
+    for (int dy : {1, -1})
+      for (int dx : {1, -1}) vertical(dx, dy, cv::Range(0, w));
+
+  // Winner takes all, uniqueness (full level), left-right check, sub-pixel.
+  const int lr = config_.lr_max_diff;
+  const int uniq = config_.uniqueness;
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      int* rs = L.right_s.data() + at(0, y);
+      std::int16_t* rd = L.right_d.data() + at(0, y);
+      std::fill(rs, rs + w, std::numeric_limits<int>::max());
+      std::fill(rd, rd + w, static_cast<std::int16_t>(-1));
+      float* disp = L.disp.data() + at(0, y);
+      for (int x = 0; x < w; ++x) {
+        disp[x] = -1.f;
+        const int d0 = L.dmin[at(x, y)];
+        if (d0 == kNoSeed) continue;
+        const std::uint16_t* s = L.sum.data() + at(x, y) * static_cast<size_t>(npad);
+        int kb = 0;
+        for (int k = 0; k < n; ++k) {
+          if (s[k] < s[kb]) kb = k;
+          const int xr = x - d0 - k;
+          if (xr >= 0 && s[k] < rs[xr]) {
+            rs[xr] = s[k];
+            rd[xr] = static_cast<std::int16_t>(d0 + k);
+          }
+        }
+        if (x - d0 - kb < 0) continue;
+        const int best = s[kb];
+        if (L.full) {
+          int second = std::numeric_limits<int>::max();
+          for (int k = 0; k < n; ++k)
+            if (std::abs(k - kb) > 1) second = std::min(second, static_cast<int>(s[k]));
+          L.conf[at(x, y)] =
+              second > 0 && second != std::numeric_limits<int>::max()
+                  ? static_cast<std::uint8_t>(255 * (second - best) / second)
+                  : 0;
+          if (uniq > 0 && second != std::numeric_limits<int>::max() &&
+              best * 100 >= (100 - uniq) * second)
+            continue;
+        } else if ((kb == 0 && d0 > L.lo) || (kb == n - 1 && d0 + n < L.hi)) {
+          continue;  // the minimum lies outside the window: the seed was wrong
+        }
+        float d = static_cast<float>(d0 + kb);
+        if (kb > 0 && kb < n - 1) {
+          const int a = s[kb - 1], c = s[kb + 1];
+          const int denom = a + c - 2 * best;
+          if (denom > 0) d += static_cast<float>(a - c) / static_cast<float>(2 * denom);
+        }
+        disp[x] = d;
+        L.winner[at(x, y)] = static_cast<std::int16_t>(d0 + kb);
+      }
+      if (lr < 0) continue;
+      for (int x = 0; x < w; ++x) {
+        if (disp[x] < 0) continue;
+        const int d = L.winner[at(x, y)];
+        const int xr = x - d;
+        if (xr < 0 || rd[xr] < 0 || std::abs(rd[xr] - d) > lr) disp[x] = -1.f;
+      }
+    }
+  });
+  if (L.full)
+    for (size_t i = 0; i < L.disp.size(); ++i)
+      if (L.disp[i] < 0) L.conf[i] = 0;
+  size_t valid = 0;
+  for (const float d : L.disp) valid += d >= 0;
+  valid_by_level_[static_cast<size_t>(l)] = valid;
+}
+
+void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {
+  Level& L0 = levels_[0];
+  if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != L0.size ||
+      right.size() != L0.size)
+    throw Error("c2f: expected 8-bit grey images of the configured size");
+  L0.left = left;
+  L0.right = right;
+  for (size_t l = 1; l < levels_.size(); ++l) {
+    pyramid_down(levels_[l - 1].left, levels_[l].left, pyramid_row_);
+    pyramid_down(levels_[l - 1].right, levels_[l].right, pyramid_row_);
+  }
+  for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) match_level(l);
+
+  const int invalid = (min_disparity_ - 1) * 16;
+  disparity_x16.create(L0.size, CV_16SC1);
+  const Level& top = levels_.back();
+  const int shift = static_cast<int>(levels_.size()) - 1;
+  parallel_rows(cv::Range(0, L0.size.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      std::int16_t* out = disparity_x16.ptr<std::int16_t>(y);
+      std::uint8_t* conf = confidence_.ptr<std::uint8_t>(y);
+      const float* d = L0.disp.data() + static_cast<size_t>(y) * static_cast<size_t>(L0.size.width);
+      const std::uint8_t* tc =
+          top.conf.data() + static_cast<size_t>(y >> shift) * static_cast<size_t>(top.size.width);
+      for (int x = 0; x < L0.size.width; ++x) {
+        out[x] = d[x] < 0 ? static_cast<std::int16_t>(invalid)
+                          : static_cast<std::int16_t>(std::lround(16.f * d[x]));
+        conf[x] = tc[x >> shift];
+      }
+    }
+  });
+  if (speckle_window_ > 0)
+    cv::filterSpeckles(disparity_x16, invalid, speckle_window_, 16 * speckle_range_,
+                       speckle_buffer_);
+  L0.left = cv::Mat();
+  L0.right = cv::Mat();
+}
+
+}  // namespace hazmap
