@@ -54,6 +54,14 @@ const Command kCommands[] = {
      "                      [--drift F] [--drift-direction-deg D] [--distort]\n"
      "                      [--distortion K1,K2,P1,P2,K3] [--misalign] [--misalignment R,P,Y,X,Y,Z]\n"
      "                      [--samples N] [--noise-sigma DN] [--no-sun] [--ground-truth]\n"
+     "                      [--sun-elevation-deg D] [--sun-azimuth-deg D] [--terrain-shadows]\n"
+     "                      [--ambient A] [--opposition-surge S] [--opposition-width-deg D]\n"
+     "                      [--lunar-polar-light] [--albedo regolith|value_noise]\n"
+     "                      [--albedo-contrast C] [--albedo-correlation M] [--noise-octaves N]\n"
+     "                      [--noise-gain G] [--noise-wavelength M] [--terrain-resolution M]\n"
+     "                      [--gain V|L,R] [--exposure V|L,R] [--offset-dn V|L,R]\n"
+     "                      [--electrons-per-dn E] [--vignetting V] [--bits 8|12]\n"
+     "                      [--row-offset-px P] [--rig cadre|polar]\n"
      "                      [--gt-margin M] [--depth] [--overwrite] [--quiet]\n"
      "                      synthetic sequence + ground truth"},
     {"evaluate", hazmap::cli::cmd_evaluate,

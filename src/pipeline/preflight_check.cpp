@@ -211,6 +211,8 @@ std::string format_row_offset(const RowOffsetCheck& o) {
              o.spread_px) +
          std::to_string(o.inliers) + " of " + std::to_string(o.matches) + " matches in " +
          std::to_string(o.frames) + " frames; after stereo.row_offset_px " + applied + "\n";
+}
+
 /// The search against the image: the columns a block matcher leaves without disparity.
 void add_search_fit_problems(PreflightReport& r, const Config& config, const cv::Rect& region,
                              const PreflightLimits& limits) {
