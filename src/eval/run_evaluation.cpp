@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -27,6 +28,7 @@
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/map/layer_stack.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap::eval {
@@ -386,7 +388,8 @@ std::string seen_row(const SeenSums& all, const SeenSums* near) {
 /// of the last depth frame at or before written frame f (-1: none).
 SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const Config& config,
                       const std::map<std::string, Pose3d>& true_poses, const fs::path& pose_file,
-                      const std::vector<std::string>& frames, std::vector<int>* frame_index) {
+                      const std::vector<std::string>& frames, std::vector<int>* frame_index,
+                      const LateralGate& gate_in, SeenMap* gated) {
   const fs::path depth_dir = sequence_dir / "depth";
   std::vector<std::string> stems;
   for (const auto& entry : fs::directory_iterator(depth_dir))
@@ -395,6 +398,8 @@ SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const
       stems.push_back(entry.path().stem().string());
   std::sort(stems.begin(), stems.end());
   const StereoCalibration calib = load_stereo_calibration(sequence_dir / "calibration.yaml");
+  LateralGate gate = gate_in;
+  gate.baseline_m = calib.T.norm();
   DepthCamera camera;
   camera.fx = calib.left.K(0, 0);
   camera.fy = calib.left.K(1, 1);
@@ -412,6 +417,8 @@ SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const
       throw Error(file.string() + ": not a float32 one-channel depth image (simulate --depth)");
     seen.add_depth(depth, camera, pose->second * calib.T_B_C, config.stereo.z_max_m,
                    static_cast<int>(k));
+    gated->add_depth(depth, camera, pose->second * calib.T_B_C, config.stereo.z_max_m,
+                     static_cast<int>(k), &gate);
   }
   frame_index->clear();
   for (const std::string& f : frames)
@@ -442,13 +449,23 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
 
   // summary.csv: pooled per layer; frame columns hold the count of frames.
   std::ostringstream sum;
-  sum << "frames," << csv_header(false, near) << (seen ? seen_header(near) : "") << '\n';
+  // Seen within the vouching layers' lateral gate (LateralGate), near only: free cells.
+  const bool gated = seen && near;
+  const char* gated_fields[] = {"free_m2", "free_traversable", "free_unknown", "free_hazard"};
+  const auto gated_row = [&](const SeenSums& p) {
+    return "," + fmt(p.area_m2(kTruthFree)) + "," + fmt(p.fraction(kTruthFree, 1)) + "," +
+           fmt(p.fraction(kTruthFree, 0)) + "," + fmt(p.fraction(kTruthFree, 2));
+  };
+  sum << "frames," << csv_header(false, near) << (seen ? seen_header(near) : "");
+  if (gated)
+    for (const char* name : gated_fields) sum << ",near_gated_" << name;
+  sum << '\n';
   for (size_t l = 0; l < ev.layers.size(); ++l) {
     const LayerMetrics nm = near ? derive_metrics(ev.near_pooled[l]) : LayerMetrics{};
     sum << ev.frames.size() << ',' << csv_layer(ev.layers[l]) << ','
         << csv_metrics(derive_metrics(ev.pooled[l]), near ? &nm : nullptr)
         << (seen ? seen_row(ev.seen_pooled[l], near ? &ev.near_seen_pooled[l] : nullptr) : "")
-        << '\n';
+        << (gated ? gated_row(ev.near_gated_pooled[l]) : "") << '\n';
   }
   write_file_atomically(out / "summary.csv", sum.str());
 
@@ -504,6 +521,13 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
       if (near) {
         j.key("near_seen").begin_object();
         for (const auto& [name, v] : seen_fields(ev.near_seen_pooled[l])) j.key(name).value(v);
+        j.end_object();
+        const SeenSums& g = ev.near_gated_pooled[l];
+        j.key("near_gated").begin_object();
+        j.key("free_m2").value(g.area_m2(kTruthFree));
+        j.key("free_traversable").value(g.fraction(kTruthFree, 1));
+        j.key("free_unknown").value(g.fraction(kTruthFree, 0));
+        j.key("free_hazard").value(g.fraction(kTruthFree, 2));
         j.end_object();
       }
     }
@@ -752,17 +776,36 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
 
   // Seen cells (issue 34): from the sequence's depth images, when it has them.
   std::vector<int> seen_index;
-  std::optional<SeenMap> seen, seen_footprint;
+  std::optional<SeenMap> seen, seen_footprint, gated, gated_footprint;
   if (fs::is_directory(options.sequence_dir / "depth")) {
     const fs::path pose_file =
         options.sequence_dir / (ev.used_true_poses ? "poses_true.txt" : "poses.txt");
+    // The vouching layers' most permissive lateral gate (none if one has no gate).
+    const HazardParams hazard_params = resolve_hazard_params(config);
+    LateralGate gate;
+    gate.ray_model = config.sensor.model == SensorModel::ray;
+    gate.pointing_px = config.sensor.pointing_error_px;
+    gate.matching_px = config.sensor.disparity_error_px;
+    if (config.stereo.matcher != StereoMatcher::c2f)
+      gate.blank_columns = config.stereo.min_disparity + config.stereo.num_disparities;
+    for (size_t i = 0; i < config.map.layers.size(); ++i) {
+      if (hazard_params.layers[i].h_min_m > hazard_params.critical_height_m) continue;
+      const double g = gate_std_m(config.map.layers[i], config.rules);
+      gate.max_std_m = g > 0.0 ? std::max(gate.max_std_m, g) : std::numeric_limits<double>::infinity();
+    }
+    gated.emplace(gt.height);
     seen.emplace(read_seen_map(options.sequence_dir, gt, config, ev.used_true_poses ? truth : used,
-                               pose_file, ev.frames, &seen_index));
-    if (with_footprint)
-      seen_footprint.emplace(seen->whole_disc(resolve_hazard_params(config).footprint_radius_m));
+                               pose_file, ev.frames, &seen_index, gate, &*gated));
+    if (with_footprint) {
+      seen_footprint.emplace(seen->whole_disc(hazard_params.footprint_radius_m));
+      gated_footprint.emplace(gated->whole_disc(hazard_params.footprint_radius_m));
+    }
     ev.seen_enabled = true;
     ev.seen_pooled.assign(ev.layers.size(), SeenSums{});
-    if (options.near_enabled()) ev.near_seen_pooled.assign(ev.layers.size(), SeenSums{});
+    if (options.near_enabled()) {
+      ev.near_seen_pooled.assign(ev.layers.size(), SeenSums{});
+      ev.near_gated_pooled.assign(ev.layers.size(), SeenSums{});
+    }
   }
 
   std::set<std::string> error_frames(options.error_map_frames.begin(),
@@ -861,9 +904,14 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
         try {
           ss = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
                           L.h_min_m);
-          if (options.near_enabled())
+          if (options.near_enabled()) {
             ns = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
                             L.h_min_m, &near);
+            ev.near_gated_pooled[l] +=
+                score_seen(layer.hazard, &reasons, truth_for(L),
+                           L.gt_dilation_m > 0.0 ? *gated_footprint : *gated, seen_index[f],
+                           T_map_W, L.h_min_m, &near);
+          }
         } catch (const Error& e) {
           throw Error((frames_dir / name / (L.name + "_*.jdem")).string() + " (frame " + name +
                       "): " + e.what());

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/stereo/sensor_model.hpp"
 
 namespace hazmap::eval {
 
@@ -21,7 +22,7 @@ SeenMap::SeenMap(const DenseGrid& gt) {
 }
 
 void SeenMap::add_depth(const cv::Mat& depth, const DepthCamera& camera, const Pose3d& T_W_C,
-                        double z_max_m, int frame) {
+                        double z_max_m, int frame, const LateralGate* gate) {
   check(depth.type() == CV_32FC1, "seen cells: a depth image must be float32, one channel");
   check(camera.fx > 0 && camera.fy > 0, "seen cells: the camera needs positive focal lengths");
   // Normalised ray (x, y) of every pixel column / row, or per pixel through the lens.
@@ -39,6 +40,25 @@ void SeenMap::add_depth(const cv::Mat& depth, const DepthCamera& camera, const P
   const DenseGrid& g = geometry_;
   const Eigen::Matrix3d R = T_W_C.linear();
   const Eigen::Vector3d t = T_W_C.translation();
+  const bool gated = gate && gate->max_std_m > 0.0 && std::isfinite(gate->max_std_m);
+  const double max_var = gated ? gate->max_std_m * gate->max_std_m : 0.0;
+  StereoGeometry geometry;
+  if (gate) {
+    check(gate->baseline_m > 0.0, "seen cells: the lateral gate needs a positive baseline");
+    geometry = {camera.fx, gate->baseline_m, camera.cx, camera.cy};
+  }
+  // The largest eigenvalue of the xy block of the point's covariance in W, as the map's
+  // gate reads it (map_points.cpp).
+  const auto lateral_var_W = [&](int u, int v, double z) {
+    const Eigen::Matrix3d C =
+        gate->ray_model
+            ? covariance_ray(geometry, u, v, geometry.focal_px * geometry.baseline_m / z,
+                             gate->pointing_px, gate->matching_px)
+            : covariance_axis(geometry, z, gate->pointing_px, gate->matching_px);
+    const Eigen::Matrix3d W = R * C * R.transpose();
+    const double half_sum = 0.5 * (W(0, 0) + W(1, 1)), half_gap = 0.5 * (W(0, 0) - W(1, 1));
+    return half_sum + std::sqrt(half_gap * half_gap + W(0, 1) * W(0, 1));
+  };
   for (int v = 0; v < depth.rows; ++v) {
     const float* row = depth.ptr<float>(v);
     for (int u = 0; u < depth.cols; ++u) {
@@ -52,6 +72,11 @@ void SeenMap::add_depth(const cv::Mat& depth, const DepthCamera& camera, const P
       } else {
         x = (u - camera.cx) / camera.fx;
         y = (v - camera.cy) / camera.fy;
+      }
+      if (gate) {
+        const double d = camera.fx * gate->baseline_m / z;
+        if (u < gate->blank_columns || u - d < 0.0) continue;
+        if (gated && lateral_var_W(u, v, z) > max_var) continue;
       }
       const Eigen::Vector3d p_W = R * Eigen::Vector3d(x * z, y * z, z) + t;
       int gr = 0, gc = 0;

@@ -56,15 +56,23 @@ void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_
     const GridRect cut = rect.clipped(fused.rows, fused.cols);
     for (int row = cut.row0; row < cut.row1; ++row) {
       for (int col = cut.col0; col < cut.col1; ++col) {
-        bool is_hazard = false;
-        double smallest = std::numeric_limits<double>::infinity();
+        const double inf = std::numeric_limits<double>::infinity();
+        double smallest = inf, hazard_cell = inf, proof_cell = inf;
         for (size_t l = 0; l < layers.size(); ++l) {
           const int lr = rows_[l * n + row], lc = cols_[l * n + col];
           if (lr < 0 || lc < 0) continue;
-          const float v = layers[l].hazard->at(lr, lc);
-          if (v == hazard) is_hazard = true;
-          else if (v == traversable) smallest = std::min(smallest, layers[l].h_min_m);
+          const DenseGrid& g = *layers[l].hazard;
+          const float v = g.at(lr, lc);
+          if (v == hazard) {
+            hazard_cell = std::min(hazard_cell, g.resolution_m);
+          } else if (v == traversable) {
+            smallest = std::min(smallest, layers[l].h_min_m);
+            if (layers[l].h_min_m <= critical_height_m) proof_cell = std::min(proof_cell, g.resolution_m);
+          }
         }
+        // Any layer's hazard, unless (finer_proof) a finer vouching layer proves the cell.
+        const bool is_hazard =
+            std::isfinite(hazard_cell) && (!finer_proof_ || hazard_cell <= proof_cell);
         fused.at(row, col) = unknown;
         clearance.at(row, col) = nan;
         if (is_hazard) {

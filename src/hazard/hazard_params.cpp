@@ -67,6 +67,7 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
   p.footprint_radius_m = config.hazard.footprint_radius_m >= 0 ? config.hazard.footprint_radius_m
                                                                : config.hazard.wheelbase_m / 2.0;
   p.fused_extent_m = config.hazard.fused_extent_m > 0 ? config.hazard.fused_extent_m : largest;
+  p.finer_proof = config.hazard.finer_proof;
   return p;
 }
 

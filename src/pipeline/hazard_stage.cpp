@@ -89,6 +89,7 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
       incremental_(incremental),
       views_(params.layers.size()),
       layer_state_(params.layers.size()) {
+  fusion_.set_finer_proof(params.finer_proof);
   for (size_t i = 0; i < views_.size(); ++i) {
     classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
     fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});

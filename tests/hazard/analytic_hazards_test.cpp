@@ -384,31 +384,38 @@ TEST(AnalyticHazards, RingSampleOnACellThatIsNotEvaluableComesFromItsNeighboursP
   EXPECT_EQ(island.z_m, g.height.at(row, col));
 }
 
-TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndTwoCellHolesStayUnknown) {
+TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndAHalfRingStillProves) {
   // Flat ground on the 1 cm Kalman layer with unobserved 1 cm cells exactly where the
   // wheel ring of the cell at (0.305, 0.105) samples: each sample then comes from an
-  // observed neighbour and the cell is proven traversable. A 3 x 3 hole around one sample
-  // leaves the ring incomplete: unknown.
+  // observed neighbour and the cell is proven traversable. 3 x 3 holes lose samples: with
+  // samples 0-2 lost, 3-7 (a pair and more) still prove the cell (issue 34); with 0-3
+  // lost, 4-7 hold no opposite pair: unknown.
   const Config config = analytic_config({{RuleKind::kalman, 0.01}});
   const double xc = 0.305, yc = 0.105, R = 0.15;
-  const auto holes = [&](double half_width) {
+  const auto holes = [&](double half_width, int wide) {
     return [=](double x, double y) {
       for (int k = 0; k < 8; ++k) {
         const double sx = xc + R * std::cos(k * M_PI / 4), sy = yc + R * std::sin(k * M_PI / 4);
         const double cx = std::floor(sx / 0.01) * 0.01 + 0.005, cy = std::floor(sy / 0.01) * 0.01 + 0.005;
-        const double w = k == 0 ? half_width : 0.005;  // sample 0's hole may be wider
+        const double w = k < wide ? half_width : 0.005;  // samples below `wide`: wider holes
         if (std::abs(x - cx) < w && std::abs(y - cy) < w) return false;
       }
       return true;
     };
   };
-  for (double w : {0.005, 0.015}) {
+  struct Case {
+    double half_width;
+    int wide;
+    HazardClass want;
+  };
+  for (const Case& c : {Case{0.005, 1, HazardClass::traversable}, Case{0.015, 1, HazardClass::traversable},
+                        Case{0.015, 3, HazardClass::traversable}, Case{0.015, 4, HazardClass::unknown}}) {
     const auto views = map_surface(config, [](double, double) { return 0.0; }, 0.6, 0.002, 0.0005,
-                                   7, Visible(holes(w)));
+                                   7, Visible(holes(c.half_width, c.wide)));
     int row = 0, col = 0;
     ASSERT_TRUE(views[0].hazard.cell_at(xc, yc, &row, &col));
-    const auto want = w < 0.01 ? HazardClass::traversable : HazardClass::unknown;
-    EXPECT_EQ(views[0].hazard.at(row, col), float(want)) << "hole half-width " << w;
+    EXPECT_EQ(views[0].hazard.at(row, col), float(c.want))
+        << "hole half-width " << c.half_width << " around samples < " << c.wide;
   }
 }
 

@@ -41,6 +41,41 @@ TEST(FusedHazard, HazardFromAnyLayerTraversableOnlyFromLayersFineEnoughForCritic
   EXPECT_EQ(fused.at(1, 0), kT);
 }
 
+TEST(FusedHazard, FinerProofOutweighsACoarserHazardOnlyFromAVouchingLayer) {
+  // Layers at 1, 2 and 4 m; h_min 3, 3 and 12 cm; critical 3 cm. The 4 m layer's one
+  // cell says hazard everywhere, the 2 m layer's NE cell says hazard too.
+  DenseGrid fine, mid, coarse, fused, clearance;
+  fine.reset(4, 4, 1.0, 0, 0, kU);
+  mid.reset(2, 2, 2.0, 0, 0, kU);
+  coarse.reset(1, 1, 4.0, 0, 0, kH);
+  mid.at(0, 1) = kH;                           // fine rows 0-1, cols 2-3
+  fine.at(3, 0) = kT;                          // under coarse hazard only
+  fine.at(0, 3) = kT;                          // under mid and coarse hazards
+  mid.at(1, 1) = kT;                           // fine rows 2-3, cols 2-3
+  fine.at(2, 2) = kH;                          // fine hazard under a mid proof
+  DenseGrid coarse_proof;                      // a 12 cm layer cannot vouch
+  coarse_proof.reset(4, 4, 1.0, 0, 0, kU);
+  coarse_proof.at(1, 0) = kT;
+  HazardFusion fusion;
+  const std::vector<FusionInput> layers = {{&fine, 0.03}, {&mid, 0.03}, {&coarse, 0.12}};
+  fusion.fuse(layers, 0.03, 4, 1.0, 0, 0, fused, clearance);  // SPEC 8.4: any hazard
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(fused.at(r, c), kH) << r << " " << c;
+  fusion.set_finer_proof(true);
+  fusion.fuse(layers, 0.03, 4, 1.0, 0, 0, fused, clearance);
+  EXPECT_EQ(fused.at(3, 0), kT);  // fine proof under the coarse hazard
+  EXPECT_FLOAT_EQ(clearance.at(3, 0), 0.03f);
+  EXPECT_EQ(fused.at(0, 3), kT);  // ... and under two coarser hazards
+  EXPECT_EQ(fused.at(2, 3), kT);  // the mid layer's proof outweighs the coarse hazard
+  EXPECT_EQ(fused.at(2, 2), kH);  // a finer hazard is never outweighed by a coarser proof
+  EXPECT_EQ(fused.at(0, 2), kH);  // no proof finer than the mid hazard
+  EXPECT_EQ(fused.at(1, 1), kH);  // only hazards
+  // A proof from a layer that cannot vouch (h_min > critical) outweighs nothing, even
+  // when it is finer than the hazard.
+  fusion.fuse({{&coarse_proof, 0.12}, {&coarse, 0.12}}, 0.03, 4, 1.0, 0, 0, fused, clearance);
+  EXPECT_EQ(fused.at(1, 0), kH);
+}
+
 TEST(FusedHazard, GridExtendsBeyondTheFinestLayerWhereCoarseLayersReach) {
   DenseGrid fine, coarse, fused, clearance;
   fine.reset(2, 2, 1.0, 0, 0, kT);      // x, y in [-1, 1]

@@ -104,6 +104,9 @@ struct HazardConfig {
   double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
   double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
   double fused_extent_m = 0;     ///< side of the fused/footprint maps; 0: the largest layer's
+  /// Fused map (issue 34): a finer layer's proof of traversability outweighs a coarser
+  /// layer's hazard on the fine cell (HazardFusion::set_finer_proof); false: SPEC 8.4.
+  bool finer_proof = false;
   /// SPEC 8.6: re-classify only the cells whose result can have changed (equal to a full
   /// pass; false: every cell of every layer every frame, for comparison).
   bool incremental = true;

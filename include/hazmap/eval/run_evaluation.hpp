@@ -95,6 +95,9 @@ struct RunEvaluation {
   std::vector<SeenSums> seen_pooled;                  ///< [layer]
   std::vector<std::vector<SeenSums>> near_seen_sums;  ///< [frame][layer], with --near
   std::vector<SeenSums> near_seen_pooled;             ///< [layer], with --near
+  /// [layer], with --near: over cells seen within the vouching layers' lateral gate
+  /// (seen_confusion.hpp, LateralGate).
+  std::vector<SeenSums> near_gated_pooled;
   std::filesystem::path out_dir;
 };
 

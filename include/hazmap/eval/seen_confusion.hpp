@@ -44,6 +44,21 @@ struct DepthCamera {
   std::vector<double> distortion;  ///< empty or OpenCV order
 };
 
+/// Seen by the stereo pair within the layers' lateral gate (issue 34: what the sensor
+/// could give a vouching layer at best): a depth pixel counts only if its point is in the
+/// right image too (u - d >= 0, d = f B / Z at the true depth), outside the columns the
+/// block matchers leave blank (u >= `blank_columns`: min_disparity + num_disparities for
+/// bm and sgbm), and its stereo point's lateral standard deviation in W (largest of its
+/// xy covariance, SPEC 4's sensor model) is within `max_std_m`: the gate of the most
+/// permissive vouching layer (gate_std_m), beyond which no vouching layer takes it.
+struct LateralGate {
+  double baseline_m = 0.0;
+  bool ray_model = false;  ///< sensor.model: ray (else axis)
+  double pointing_px = 0.5, matching_px = 0.25;
+  double max_std_m = 0.0;  ///< <= 0 or infinite: no gate
+  int blank_columns = 0;
+};
+
 class SeenMap {
  public:
   /// Over `gt`'s geometry (rows, columns, resolution, centre), nothing seen.
@@ -51,8 +66,9 @@ class SeenMap {
 
   /// Marks the GT pixels holding the points of `depth` (CV_32FC1 Z [m] in the camera)
   /// with 0 < Z <= z_max_m, placed by T_W_C, as seen at `frame` unless seen earlier.
+  /// With `gate`, only the pixels whose point passes it (LateralGate).
   void add_depth(const cv::Mat& depth, const DepthCamera& camera, const Pose3d& T_W_C,
-                 double z_max_m, int frame);
+                 double z_max_m, int frame, const LateralGate* gate = nullptr);
 
   /// The first frame index that saw pixel (row, col); -1 never.
   int first(int row, int col) const { return first_[static_cast<size_t>(row) * cols_ + col]; }

@@ -29,6 +29,13 @@ struct FusionInput {
 
 class HazardFusion {
  public:
+  /// Finer proof (issue 34): a layer's hazard yields where a strictly finer layer with
+  /// h_min <= critical height proves the cell traversable. A coarse cell's hazard lies
+  /// somewhere in it (a rock's rim fills the whole coarse cell); the finer layer has
+  /// measured this part of it and passed every test, the step above its own wheel ring
+  /// and the slopes included. Off: SPEC 8.4's any-layer hazard.
+  void set_finer_proof(bool on) { finer_proof_ = on; }
+
   /// Fuses `layers` onto a `cells` x `cells` grid of resolution `resolution_m` centred
   /// at (center_x, center_y). Buffers are reused.
   void fuse(const std::vector<FusionInput>& layers, double critical_height_m, int cells,
@@ -50,6 +57,7 @@ class HazardFusion {
                  DenseGrid& footprint, DenseGrid& hazard_distance);
 
  private:
+  bool finer_proof_ = false;
   std::vector<int> cols_, rows_;  ///< per layer: fused column/row -> layer column/row (-1 outside)
   /// Fused column/row lookups of `layers` for `fused`'s geometry.
   void map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused);

@@ -64,6 +64,7 @@ struct HazardParams {
   std::string critical_height_source;     ///< how it was obtained
   double footprint_radius_m = 0.15;       ///< SPEC 8.5
   double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
+  bool finer_proof = false;               ///< hazard.finer_proof (HazardFusion)
 };
 
 /// From the map core's configuration; a run's Config (io/config.hpp) is one.

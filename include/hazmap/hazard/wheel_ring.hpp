@@ -6,6 +6,12 @@
 // kernel). For 8 symmetric samples the least-squares plane has slope
 // sum(z dx) / sum(dx^2) along x (likewise y), sum(dx^2) = 4 R^2, and its value at the
 // centre is the samples' mean.
+//
+// A partial ring (issue 34), as at the edge of what the cameras saw or of the layer's
+// window: its exact samples' least-squares plane, with the variance propagated from
+// theirs, proves as the full ring's does when the centre is not extrapolated: at least
+// one opposite pair (the centre lies on the samples' hull, on that diameter) and a third
+// sample off it. A half ring qualifies. With less, the ring gives hazard evidence only.
 
 #include "hazmap/hazard/evidence.hpp"
 
@@ -30,13 +36,19 @@ class WheelRing {
   double dx(int k) const { return dx_[k]; }
   double dy(int k) const { return dy_[k]; }
 
-  /// Vehicle slope: tan of the ring plane's inclination against tan(max_slope); needs
-  /// every sample exact (else the test is missing: the cell cannot be proven traversable).
+  /// Exact samples a partial ring needs to prove anything (one opposite pair among them):
+  /// three fix a plane.
+  static constexpr int kMinProofSamples = 3;
+
+  /// Vehicle slope: tan of the ring plane's inclination against tan(max_slope), from every
+  /// sample when all are exact, else from a partial ring's plane when it qualifies (else
+  /// the test is missing: the cell cannot be proven traversable).
   void slope_test(const RingSample (&s)[kSamples], double tan_max_slope, Evidence& ev) const;
 
   /// Step above the ring: the cell height h (variance var_h) above the ring plane
-  /// against h_min. With a full ring of exact samples the plane is fitted. Otherwise
-  /// only hazard evidence is possible, from the known samples: ground that is a plane no
+  /// against h_min. With a full ring of exact samples the plane is fitted; with a partial
+  /// ring that qualifies, its exact samples' plane. Beyond that (and otherwise alone)
+  /// hazard evidence from the known samples: ground that is a plane no
   /// steeper than max_slope lies at most min_k(z_k) + R tan(max_slope) under the centre,
   /// and across planar ground its height is the mean of two opposite samples (averaged
   /// over the pairs that are known), so h above either bound is a step.
@@ -44,6 +56,17 @@ class WheelRing {
                  double tan_max_slope, Evidence& ev) const;
 
  private:
+  /// The least-squares plane of a partial ring's exact samples: its height under the
+  /// centre and gradient, with their variances (the gradient's: the trace of its
+  /// covariance).
+  struct PartialPlane {
+    double ground = 0, var_ground = 0;
+    double gx = 0, gy = 0, var_gradient = 0;
+  };
+  /// False when the exact samples do not qualify (no exact opposite pair, or fewer than
+  /// kMinProofSamples).
+  bool fit_partial(const RingSample (&s)[kSamples], PartialPlane* plane) const;
+
   double radius_;
   double dx_[kSamples], dy_[kSamples];
   double k_sigma_;
