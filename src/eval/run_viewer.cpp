@@ -750,7 +750,7 @@ void write_controls(std::ostream& o, const RunContent& c) {
     << "</span>\n<label>colours over <select id=\"range-mode\"><option value=\"run\">the whole run"
     << "</option><option value=\"frame\">this frame</option></select></label>\n"
     << "<label><input type=\"checkbox\" id=\"link\" checked> link views</label>\n"
-    << "<button id=\"fit\" title=\"fit every map to its grid (double-click a map)\">fit maps</button>\n"
+    << "<button id=\"fit\" title=\"fit every map to its known cells (double-click a map)\">fit maps</button>\n"
     << "<span id=\"status\">loading&hellip;</span>\n</div>\n";
 }
 
@@ -768,7 +768,8 @@ void write_maps(std::ostream& o, const RunContent& c) {
   }
   o << "</div>\n<aside id=\"side\">\n<h3>Under the pointer</h3>\n<div id=\"readout\">"
     << "Point at a map: position in W and every map's cell there.</div>\n"
-    << "<p class=\"hint\">Wheel: zoom. Drag: pan. Double-click: fit. &larr; &rarr;: frames. "
+    << "<p class=\"hint\">Maps open fitted to their known cells. Wheel: zoom. Drag: pan. "
+       "Double-click: fit. &larr; &rarr;: frames. "
        "Space: play. The path is the rover's body origin over every processed frame; the "
        "ring is where it is, its tick its heading (x axis). Open view.html#frame=N for a "
        "frame.</p>\n"

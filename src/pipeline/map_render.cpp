@@ -135,6 +135,88 @@ void draw_robot(cv::Mat& image, const DenseGrid& grid, int k, const RobotMarker&
   }
 }
 
+// The axis glyph, all its constants here: two arrows from the map's bottom-left corner,
+// +x to the right and +y up, labelled. That is how every panel is drawn (columns follow
+// W's +x, rows its -y, as in draw_robot; maps never rotate), so the glyph is the same on
+// every panel and frame; it is the reader's key to the heading tick and to the JDEM's
+// north-up rows. White on a dark edge like the robot ring, with no backdrop: only its
+// strokes cover cells. Its size follows the map's width within bounds; a map too small to
+// hold it (under twice the glyph's box each way) gets none.
+constexpr double kGlyphArrowPerMapWidth = 1.0 / 20;
+constexpr int kGlyphMinArrowPx = 14, kGlyphMaxArrowPx = 40;
+constexpr double kGlyphTextPerArrow = 1.0 / 45;  // OpenCV font scale per arrow pixel
+constexpr double kGlyphHeadPerArrow = 0.25;      // arrow head length / arrow length
+constexpr int kGlyphInsetPx = 3;                 // from the map's edges to the glyph's box
+
+struct AxisGlyph {
+  bool fits = false;
+  cv::Point origin, x_tip, y_tip, x_label, y_label;  // label: bottom-left of the text
+  int stroke = 1, edge = 3;                          // white pen, dark pen under it
+  double text_scale = 0.5;
+  cv::Rect box;
+};
+
+AxisGlyph axis_glyph(cv::Size map) {
+  AxisGlyph g;
+  const int arrow = std::clamp(static_cast<int>(std::lround(map.width * kGlyphArrowPerMapWidth)),
+                               kGlyphMinArrowPx, kGlyphMaxArrowPx);
+  g.stroke = std::max(1, arrow / 20);
+  g.edge = g.stroke + 2;
+  g.text_scale = arrow * kGlyphTextPerArrow;
+  // Half the dark pen, plus anti-aliasing and the rounding of the head's barbs.
+  const int half = g.edge / 2 + 2;
+  // The head's barbs leave the shaft at 45 degrees: sideways by head / sqrt(2).
+  const int spread =
+      static_cast<int>(std::ceil(arrow * kGlyphHeadPerArrow / std::sqrt(2.0))) + half;
+  const int gap = std::max(2, arrow / 8);
+  int base_x = 0, base_y = 0;
+  const cv::Size tx = cv::getTextSize("x", kFont, g.text_scale, g.edge, &base_x);
+  const cv::Size ty = cv::getTextSize("y", kFont, g.text_scale, g.edge, &base_y);
+  // Laid out around an origin at (0, 0), then moved into the corner.
+  g.x_tip = {arrow, 0};
+  g.y_tip = {0, -arrow};
+  g.x_label = {arrow + half + gap, tx.height / 2};
+  g.y_label = {spread + gap, -arrow + ty.height / 2};
+  cv::Rect box(cv::Point(-spread, -arrow - half), cv::Point(arrow + half + 1, spread + 1));
+  box |= cv::Rect(g.x_label.x - half, g.x_label.y - tx.height - half, tx.width + 2 * half,
+                  tx.height + base_x + 2 * half);
+  box |= cv::Rect(g.y_label.x - half, g.y_label.y - ty.height - half, ty.width + 2 * half,
+                  ty.height + base_y + 2 * half);
+  const cv::Point shift(kGlyphInsetPx - box.x, map.height - kGlyphInsetPx - (box.y + box.height));
+  for (cv::Point* p : {&g.origin, &g.x_tip, &g.y_tip, &g.x_label, &g.y_label}) *p += shift;
+  g.box = box + shift;
+  g.fits = 2 * (g.box.width + kGlyphInsetPx) <= map.width &&
+           2 * (g.box.height + kGlyphInsetPx) <= map.height;
+  if (!g.fits) g.box = cv::Rect();
+  return g;
+}
+
+void draw_axis_glyph(cv::Mat& map) {
+  const AxisGlyph g = axis_glyph(map.size());
+  if (!g.fits) return;
+  for (const auto& [colour, width] : {std::pair{kRobotEdge, g.edge}, std::pair{kRobotRing, g.stroke}}) {
+    cv::arrowedLine(map, g.origin, g.x_tip, colour, width, cv::LINE_AA, 0, kGlyphHeadPerArrow);
+    cv::arrowedLine(map, g.origin, g.y_tip, colour, width, cv::LINE_AA, 0, kGlyphHeadPerArrow);
+    cv::putText(map, "x", g.x_label, kFont, g.text_scale, colour, width, cv::LINE_AA);
+    cv::putText(map, "y", g.y_label, kFont, g.text_scale, colour, width, cv::LINE_AA);
+  }
+}
+
+/// `map` centred on a side x side square of the background (the mosaic's equal panels).
+cv::Mat padded_square(const cv::Mat& map, int side) {
+  if (side <= 0 || (map.cols >= side && map.rows >= side)) return map;
+  cv::Mat out(std::max(side, map.rows), std::max(side, map.cols), CV_8UC3, kBackground);
+  map.copyTo(out(cv::Rect((out.cols - map.cols) / 2, (out.rows - map.rows) / 2, map.cols, map.rows)));
+  return out;
+}
+
+/// Pixels per cell: the smallest k with the map >= min_size, or with side_px > 0 the
+/// largest with the map <= side_px.
+int pixels_per_cell(const DenseGrid& grid, int min_size, int side_px) {
+  if (side_px <= 0) return cell_pixels(grid, min_size);
+  return std::max(1, side_px / std::max({1, grid.rows, grid.cols}));
+}
+
 /// `map` (k pixels per cell of `grid`), with `right` beside it if not empty, above a
 /// footer: `title` and the extent, then `note`, and a scale bar at the right end of the
 /// first line that has room for it (a line of its own on a narrow panel).
@@ -184,6 +266,14 @@ cv::Mat with_footer(const cv::Mat& map, const cv::Mat& right, const DenseGrid& g
 
 }  // namespace
 
+cv::Rect axis_glyph_box(cv::Size map_size) { return axis_glyph(map_size).box; }
+
+int map_side_px(const DenseGrid& grid, int min_size, int max_size) {
+  const int f = cells_per_pixel(grid, max_size);
+  const int side = (std::max(grid.rows, grid.cols) + f - 1) / f;  // as reduce()
+  return side * std::max(1, (min_size + side - 1) / std::max(1, side));
+}
+
 HeightRange robust_height_range(const DenseGrid& height, double clip_pct) {
   HeightRange r;
   std::vector<float> known;
@@ -218,11 +308,11 @@ double scale_bar_length_m(double width_m) {
 }
 
 cv::Mat render_hazard(const DenseGrid& full, int min_size, const RobotMarker& robot,
-                      const std::string& title, int max_size) {
+                      const std::string& title, int max_size, int side_px) {
   const int f = cells_per_pixel(full, max_size);
   const DenseGrid reduced = f > 1 ? reduce(full, f, true) : DenseGrid();
   const DenseGrid& hazard = f > 1 ? reduced : full;
-  const int k = cell_pixels(hazard, min_size);
+  const int k = pixels_per_cell(hazard, min_size, side_px);
   cv::Mat image(hazard.rows * k, hazard.cols * k, CV_8UC3);
   // Pixel by pixel through row pointers: a setTo on a k x k sub-image per cell cost
   // ~100 ms for a 512 x 512 grid, most of a frame's PNG time.
@@ -236,6 +326,8 @@ cv::Mat render_hazard(const DenseGrid& full, int min_size, const RobotMarker& ro
       }
     }
   draw_robot(image, hazard, k, robot);
+  image = padded_square(image, side_px);
+  draw_axis_glyph(image);
   return with_footer(image, cv::Mat(), full, k * 1.0 / f, title,
                      f > 1 ? "grey unknown, green traversable, red hazard (" + std::to_string(f) +
                                  " x " + std::to_string(f) + " cells per pixel, the worst shown)"
@@ -243,11 +335,11 @@ cv::Mat render_hazard(const DenseGrid& full, int min_size, const RobotMarker& ro
 }
 
 cv::Mat render_height(const DenseGrid& full, int min_size, const RobotMarker& robot,
-                      const std::string& title, double clip_pct, int max_size) {
+                      const std::string& title, double clip_pct, int max_size, int side_px) {
   const int f = cells_per_pixel(full, max_size);
   const DenseGrid reduced = f > 1 ? reduce(full, f, false) : DenseGrid();
   const DenseGrid& height = f > 1 ? reduced : full;
-  const int k = cell_pixels(height, min_size);
+  const int k = pixels_per_cell(height, min_size, side_px);
   const HeightRange range = robust_height_range(height, clip_pct);
   const double lo = range.lo, span = range.hi > range.lo ? range.hi - range.lo : 1.0;
 
@@ -269,6 +361,8 @@ cv::Mat render_height(const DenseGrid& full, int min_size, const RobotMarker& ro
   cv::Mat map_image;
   cv::resize(coloured, map_image, cv::Size(), k, k, cv::INTER_NEAREST);
   draw_robot(map_image, height, k, robot);
+  map_image = padded_square(map_image, side_px);
+  draw_axis_glyph(map_image);
 
   // Colour bar with the metres it spans, labelled in the footer's font.
   const Ink ink = Ink::for_width(map_image.cols);

@@ -99,43 +99,65 @@ JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::
   return j;
 }
 
-cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct) {
-  // Panels at their own size (each labelled, with its scale bar) in a grid: layer i's
-  // hazard above its height, the fused and footprint maps in the last column.
-  constexpr int kPanel = 320, kGap = 8, kTitle = 32;
+namespace {
+// The mosaic's layout: panels' map parts at least kMosaicPanelPx (a grid of more cells
+// than that a side shows several cells per pixel), kMosaicGapPx between panels, the
+// frame's name in a kMosaicTitlePx strip on top.
+constexpr int kMosaicPanelPx = 320, kMosaicGapPx = 8, kMosaicTitlePx = 32;
+}  // namespace
+
+std::vector<cv::Mat> render_mosaic_panels(const FrameOutputs& frame, double png_height_clip_pct) {
   const RobotMarker robot = frame_robot(frame);
-  std::vector<std::vector<cv::Mat>> columns;
+  // One map side for all: the largest any panel needs at kMosaicPanelPx.
+  int side = 0;
+  const auto need = [&](const DenseGrid& g) {
+    side = std::max(side, map_side_px(g, kMosaicPanelPx, kMosaicPanelPx));
+  };
+  for (const LayerOutputs& layer : frame.layers) {
+    need(layer.hazard);
+    need(layer.height);
+  }
+  need(frame.fused);
+  need(frame.footprint);
+  std::vector<cv::Mat> panels;
   for (size_t i = 0; i < frame.layers.size(); ++i) {
     const std::string title = layer_title(frame.layers[i], i);
-    columns.push_back(
-        {render_hazard(frame.layers[i].hazard, kPanel, robot, title + " hazard", kPanel),
-         render_height(frame.layers[i].height, kPanel, robot, title, png_height_clip_pct, kPanel)});
+    panels.push_back(render_hazard(frame.layers[i].hazard, kMosaicPanelPx, robot,
+                                   title + " hazard", kMosaicPanelPx, side));
+    panels.push_back(render_height(frame.layers[i].height, kMosaicPanelPx, robot, title,
+                                   png_height_clip_pct, kMosaicPanelPx, side));
   }
-  columns.push_back({render_hazard(frame.fused, kPanel, robot, "fused hazard", kPanel),
-                     render_hazard(frame.footprint, kPanel, robot, "footprint", kPanel)});
-  int width = kGap, height = 0;
-  std::vector<int> row_h(2, 0);
-  for (const auto& col : columns) {
-    int w = 0;
-    for (size_t r = 0; r < col.size(); ++r) {
-      w = std::max(w, col[r].cols);
-      row_h[r] = std::max(row_h[r], col[r].rows);
-    }
-    width += w + kGap;
+  panels.push_back(
+      render_hazard(frame.fused, kMosaicPanelPx, robot, "fused hazard", kMosaicPanelPx, side));
+  panels.push_back(
+      render_hazard(frame.footprint, kMosaicPanelPx, robot, "footprint", kMosaicPanelPx, side));
+  // Padded right and below (the maps stay at the top-left, aligned across the mosaic).
+  int width = 0, height = 0;
+  for (const cv::Mat& p : panels) {
+    width = std::max(width, p.cols);
+    height = std::max(height, p.rows);
   }
-  height = kTitle + row_h[0] + kGap + row_h[1] + kGap;
-  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(30, 30, 30));
-  int x = kGap;
-  for (const auto& col : columns) {
-    int w = 0, y = kTitle;
-    for (size_t r = 0; r < col.size(); ++r) {
-      col[r].copyTo(canvas(cv::Rect(x, y, col[r].cols, col[r].rows)));
-      y += row_h[r] + kGap;
-      w = std::max(w, col[r].cols);
-    }
-    x += w + kGap;
+  for (cv::Mat& p : panels) {
+    if (p.cols == width && p.rows == height) continue;
+    cv::Mat padded(height, width, CV_8UC3, cv::Scalar(30, 30, 30));
+    p.copyTo(padded(cv::Rect(0, 0, p.cols, p.rows)));
+    p = padded;
   }
-  cv::putText(canvas, "frame " + frame.frame_name, cv::Point(kGap, kTitle - 10),
+  return panels;
+}
+
+cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct) {
+  const std::vector<cv::Mat> panels = render_mosaic_panels(frame, png_height_clip_pct);
+  const int columns = static_cast<int>(panels.size() / 2);
+  const int w = panels.front().cols, h = panels.front().rows;
+  cv::Mat canvas(kMosaicTitlePx + 2 * (h + kMosaicGapPx), kMosaicGapPx + columns * (w + kMosaicGapPx),
+                 CV_8UC3, cv::Scalar(30, 30, 30));
+  for (size_t i = 0; i < panels.size(); ++i) {
+    const int col = static_cast<int>(i / 2), row = static_cast<int>(i % 2);
+    panels[i].copyTo(canvas(cv::Rect(kMosaicGapPx + col * (w + kMosaicGapPx),
+                                     kMosaicTitlePx + row * (h + kMosaicGapPx), w, h)));
+  }
+  cv::putText(canvas, "frame " + frame.frame_name, cv::Point(kMosaicGapPx, kMosaicTitlePx - 10),
               cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(235, 235, 235), 1, cv::LINE_AA);
   return canvas;
 }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <regex>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -143,6 +144,112 @@ TEST(ViewBrowser, SampleRunLoadsCleanlyShowsEveryMapAndReadsValuesExactly) {
   cv::absdiff(first, last, diff);
   cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
   EXPECT_GT(cv::countNonZero(grey > 40), 2000) << "frames 0 and 3 look the same";
+}
+
+/// The box in W [x0, y0, x1, y1] of the cells of `grid` that `known` accepts, from the
+/// JDEM's layout (row 0 the largest y): empty if none.
+std::vector<double> known_box(const JdemGrid& grid, bool (*known)(float)) {
+  int r0 = grid.rows, r1 = -1, c0 = grid.cols, c1 = -1;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (known(grid.values[static_cast<size_t>(r * grid.cols + c)])) {
+        r0 = std::min(r0, r);
+        r1 = std::max(r1, r);
+        c0 = std::min(c0, c);
+        c1 = std::max(c1, c);
+      }
+  if (r1 < 0) return {};
+  const double res = grid.resolution_m;
+  const double x_min = grid.center_x_m - grid.cols * res / 2, y_max = grid.center_y_m + grid.rows * res / 2;
+  return {x_min + c0 * res, y_max - (r1 + 1) * res, x_min + (c1 + 1) * res, y_max - r0 * res};
+}
+
+std::vector<double> numbers(const std::string& csv) {
+  std::vector<double> out;
+  std::istringstream in(csv);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::strtod(item.c_str(), nullptr));
+  return out;
+}
+
+/// The part of W a map's canvas shows is the box `want` centred and fitted: centres equal,
+/// the box inside the view, touching it on one axis.
+void expect_fitted(const std::string& html, const std::string& id, const std::vector<double>& want) {
+  const std::string section = "<section class=\"map\" id=\"map-" + id + "\"";
+  const std::vector<double> view = numbers(attribute_after(html, section, "data-view-box"));
+  ASSERT_EQ(view.size(), 4u) << id << ": " << attribute_after(html, section, "data-view-box");
+  const double tol = 1e-9 * std::max(1.0, want[2] - want[0]);
+  EXPECT_NEAR((view[0] + view[2]) / 2, (want[0] + want[2]) / 2, tol) << id;
+  EXPECT_NEAR((view[1] + view[3]) / 2, (want[1] + want[3]) / 2, tol) << id;
+  const double fx = (want[2] - want[0]) / (view[2] - view[0]), fy = (want[3] - want[1]) / (view[3] - view[1]);
+  EXPECT_NEAR(std::max(fx, fy), 1.0, 1e-9) << id << ": the box fills the view on one axis";
+  EXPECT_LE(std::min(fx, fy), 1.0 + 1e-9) << id;
+}
+
+/// A known-cell box grown as the page documents: by 5 % of its larger side each way, at
+/// least two cells.
+std::vector<double> with_margin(std::vector<double> box, double resolution_m) {
+  const double pad = std::max(0.05 * std::max(box[2] - box[0], box[3] - box[1]), 2 * resolution_m);
+  return {box[0] - pad, box[1] - pad, box[2] + pad, box[3] + pad};
+}
+
+TEST(ViewBrowser, MapsOpenFittedToTheirKnownCells) {
+  if (hazmap::testing::browser_tests_skipped()) GTEST_SKIP() << "HAZMAP_SKIP_BROWSER=1";
+  ASSERT_TRUE(hazmap::testing::chromium_found()) << hazmap::testing::kNoChromium;
+  TempDir dir;
+  const fs::path src = hazmap::testing::source_dir(), run = dir / "run";
+  ASSERT_EQ(run_hazmap("run --config " + (src / "config" / "cadre_flight.yaml").string() +
+                           " --sequence " + (src / "data" / "sample").string() + " --out " +
+                           run.string() + " --frames 0:2 --quiet",
+                       dir / "run.txt"),
+            0)
+      << testing::read_text(dir / "run.txt");
+  // Frame 000000's footprint map knows nothing: its view falls back to the whole window.
+  const fs::path frame0 = run / "frames" / "000000", frame1 = run / "frames" / "000001";
+  JdemGrid blank = read_jdem(frame0 / "footprint_hazard.jdem");
+  std::fill(blank.values.begin(), blank.values.end(), 0.0f);
+  write_jdem(frame0 / "footprint_hazard.jdem", blank);
+  ASSERT_EQ(run_hazmap("view " + run.string(), dir / "view.txt"), 0)
+      << testing::read_text(dir / "view.txt");
+
+  const auto hazard_known = [](float v) { return v == 1.0f || v == 2.0f; };
+  const auto height_known = [](float v) { return !std::isnan(v); };
+  for (const std::string q : {"hazard", "height"}) {
+    const auto dom = hazmap::testing::run_chromium(dir.path(), "dom_" + q, "--dump-dom",
+                                                   url_of(run / "view.html", "#frame=1&q=" + q));
+    ASSERT_EQ(dom.exit_code, 0) << dom.log;
+    EXPECT_EQ(hazmap::testing::console_messages(dom.log), std::vector<std::string>{});
+    const std::string& html = dom.output;
+    ASSERT_NE(html.find("data-shown-frame=\"000001\""), std::string::npos) << html.substr(0, 3000);
+    for (const char* id : {"L0", "L1", "L2", "L3", "fused", "footprint"}) {
+      const bool layer = id[0] == 'L';
+      const std::string stem = std::string(id) + (layer && q == "height" ? "_height" : "_hazard");
+      const JdemGrid grid = read_jdem(frame1 / (stem + ".jdem"));
+      const std::vector<double> box = known_box(grid, layer && q == "height" ? +height_known : +hazard_known);
+      ASSERT_EQ(box.size(), 4u) << id << " knows nothing in frame 000001";
+      expect_fitted(html, id, with_margin(box, grid.resolution_m));
+      EXPECT_EQ(attribute_after(html, std::string("id=\"map-") + id + "\"", "data-fitted"), "known") << id;
+      if (std::string(id) == "L0") {  // the sample's data covers a part of the window
+        const double width = grid.cols * grid.resolution_m;
+        EXPECT_LT(box[2] - box[0], 0.8 * width) << q;
+      }
+    }
+  }
+  // Nothing known: the whole window, with the page's 2 % border.
+  const auto dom = hazmap::testing::run_chromium(dir.path(), "dom_blank", "--dump-dom",
+                                                 url_of(run / "view.html", "#frame=0"));
+  ASSERT_EQ(dom.exit_code, 0) << dom.log;
+  ASSERT_NE(dom.output.find("data-shown-frame=\"000000\""), std::string::npos);
+  EXPECT_EQ(attribute_after(dom.output, "id=\"map-footprint\"", "data-fitted"), "grid");
+  const double w = blank.cols * blank.resolution_m, h = blank.rows * blank.resolution_m;
+  const double grow = 0.02 / 2;
+  expect_fitted(dom.output, "footprint",
+                {blank.center_x_m - w / 2 - grow * w, blank.center_y_m - h / 2 - grow * h,
+                 blank.center_x_m + w / 2 + grow * w, blank.center_y_m + h / 2 + grow * h});
+  // A view given in the address is kept, not fitted.
+  const auto pinned = hazmap::testing::run_chromium(dir.path(), "dom_pinned", "--dump-dom",
+                                                    url_of(run / "view.html", "#frame=1&view=0.5,0,2"));
+  ASSERT_EQ(pinned.exit_code, 0) << pinned.log;
+  EXPECT_EQ(attribute_after(pinned.output, "id=\"map-L0\"", "data-fitted"), "no");
 }
 
 TEST(ViewBrowser, EvaluatedRunShowsTheMetricsAndTheFramesErrorMap) {

@@ -56,9 +56,16 @@ void capture_frame_outputs(const Pipeline& pipeline, const std::string& frame_na
 JdemGrid to_jdem(const DenseGrid& grid, const std::string& quantity, const std::string& units,
                  const std::string& frame_name);
 
-/// One image tiling every layer's panels (hazard above height, map_render.hpp) and the
-/// fused and footprint maps, each labelled with its resolution, extent and scale bar, for
-/// flipping through a run.
+/// The mosaic's panels, column by column: layer i's hazard then its height, then the
+/// fused and the footprint map. All of one pixel size: every map part is the same square
+/// (the largest map_side_px among them, each grid's cells the largest whole number of
+/// pixels that fits, centred), and each panel is padded with the background to the
+/// largest panel (the height panels' colour bar, the longest footer).
+std::vector<cv::Mat> render_mosaic_panels(const FrameOutputs& frame, double png_height_clip_pct);
+
+/// One image tiling render_mosaic_panels (hazard above height, the fused and footprint
+/// maps in the last column) under the frame's name, each panel labelled with its
+/// resolution, extent and scale bar, for flipping through a run.
 cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct);
 
 /// Writes every output file of one frame into `frame_dir` (PNGs, and the grids in

@@ -27,6 +27,10 @@
   var MAX_PIXELS_PER_CELL = 400, MAX_ZOOM_OUT = 8;
   var ROBOT_RING_PX = 7;           // the rover's ring, CSS pixels at any zoom
   var FIT_MARGIN = 1.02;           // a fitted grid leaves its border visible
+  // A fitted view shows the map's known cells (what it found, not the empty window
+  // around it): their bounding box grown on each side by this share of its larger side,
+  // and by at least this many cells, so that the edge cells stay clear of the frame.
+  var FIT_KNOWN_MARGIN = 0.05, FIT_KNOWN_MARGIN_CELLS = 2;
   var WHEEL_ZOOM_PER_PX = 0.0015;  // zoom factor exp(-k deltaY): a wheel notch (100) is 14 %
   var FRAME_CACHE = 48;            // unpacked frames kept (about 2 MB each at CADRE's sizes)
   // Categorical series colours (Tableau 10), as plot.cpp's charts.
@@ -83,6 +87,7 @@
       var f = frames[index];
       return {
         images: {},
+        boxes: {},  // knownBox's answers
         maps: f.maps.map(function (g) {
           var arrays = {};
           Object.keys(g.arrays).forEach(function (q) {
@@ -155,7 +160,8 @@
 
   // ---------------------------------------------------------------- views
   // A view maps W to the canvas: centre (cx, cy) in W, mpp metres per CSS pixel. A fitted
-  // view follows its grid (which rolls with the rover); pan or zoom pins it in W.
+  // view follows the known cells of what it shows, frame by frame (fitView); pan or zoom
+  // pins it in W, "fit maps" or a double-click fits it again.
   var panels = maps.map(function (m, index) {
     var section = document.getElementById('map-' + m.id);
     return {
@@ -172,12 +178,48 @@
     return [p.canvas.clientWidth || 360, p.canvas.clientHeight || 360];
   }
 
+  // The bounding box in W [x0, y0, x1, y1] of the cells of map `m` that hold a value in
+  // quantity `q` (a hazard class other than unknown; a height; a variance), or null.
+  function knownBox(u, m, q) {
+    var key = m + '/' + q;
+    if (key in u.boxes) return u.boxes[key];
+    var g = u.maps[m], r0 = g.rows, r1 = -1, c0 = g.cols, c1 = -1, row, col, i = 0;
+    var a = q === 'hazard' ? g.arrays.hazard : q === 'height' ? g.arrays.height : g.arrays.variance;
+    for (row = 0; row < g.rows; row++)
+      for (col = 0; col < g.cols; col++, i++) {
+        var v = a[i];
+        if (q === 'hazard' ? v === 1 || v === 2 : !isNaN(v)) {
+          if (row < r0) r0 = row;
+          if (row > r1) r1 = row;
+          if (col < c0) c0 = col;
+          if (col > c1) c1 = col;
+        }
+      }
+    // Row 0 is the largest y: rows r0..r1 span y1 - (r1 + 1) res .. y1 - r0 res.
+    u.boxes[key] = r1 < 0 ? null : [g.x0 + c0 * g.res, g.y1 - (r1 + 1) * g.res,
+                                    g.x0 + (c1 + 1) * g.res, g.y1 - r0 * g.res];
+    return u.boxes[key];
+  }
+
+  // Fitted: the known cells of what the panel shows, with a margin; the whole grid when
+  // none is known.
   function fitView(p) {
     if (!unpacked) return;
     var g = unpacked.maps[p.index], s = canvasSize(p);
-    p.view.cx = g.cx;
-    p.view.cy = g.cy;
-    p.view.mpp = Math.max(g.cols * g.res / s[0], g.rows * g.res / s[1], 1e-6) * FIT_MARGIN;
+    var box = knownBox(unpacked, p.index, quantityOf(p));
+    if (!box) {
+      p.view.cx = g.cx;
+      p.view.cy = g.cy;
+      p.view.mpp = Math.max(g.cols * g.res / s[0], g.rows * g.res / s[1], 1e-6) * FIT_MARGIN;
+      return 'grid';
+    }
+    var pad = Math.max(FIT_KNOWN_MARGIN * Math.max(box[2] - box[0], box[3] - box[1]),
+                       FIT_KNOWN_MARGIN_CELLS * g.res);
+    p.view.cx = (box[0] + box[2]) / 2;
+    p.view.cy = (box[1] + box[3]) / 2;
+    p.view.mpp = Math.max((box[2] - box[0] + 2 * pad) / s[0], (box[3] - box[1] + 2 * pad) / s[1],
+                          g.res / MAX_PIXELS_PER_CELL);
+    return 'known';
   }
 
   function toScreen(p, x, y) {
@@ -331,7 +373,7 @@
     ctx.fillRect(0, 0, s[0], s[1]);
     if (!unpacked) return;
     var g = unpacked.maps[p.index];
-    if (p.view.fit) fitView(p);
+    var fitted = p.view.fit ? fitView(p) : 'no';
     var q = quantityOf(p);
     var img = gridImage(unpacked, state.shown, p.index, q);
     var tl = toScreen(p, g.x0, g.y1);
@@ -343,7 +385,11 @@
     drawPath(ctx, p);
     drawHover(ctx, p);
     drawScaleBar(ctx, p);
-    p.section.dataset.metresPerPixel = p.view.mpp;  // for tests and tools reading the DOM
+    // For tests and tools reading the DOM: the scale and the part of W in view.
+    p.section.dataset.metresPerPixel = p.view.mpp;
+    var lo = toWorld(p, 0, s[1]), hi = toWorld(p, s[0], 0);
+    p.section.dataset.viewBox = [lo.x, lo.y, hi.x, hi.y].join(',');
+    p.section.dataset.fitted = fitted;  // known | grid (nothing known) | no (panned, zoomed)
   }
 
   function quantityOf(p) {
