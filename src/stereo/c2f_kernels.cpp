@@ -28,6 +28,100 @@ int step_scalar(const std::int16_t* lq, int min_lq, int delta, const std::uint8_
   return lowest;
 }
 
+
+void census_row_scalar(const std::uint8_t* const* rows, int cw, int ch, int width,
+                       std::uint64_t* code) {
+  const int rw = cw / 2, rh = ch / 2;
+  for (int x = 0; x < width; ++x) {
+    const std::uint8_t centre = rows[rh][x + rw];
+    std::uint64_t c = 0;
+    int j = 0;
+    for (int i = 0; i < ch; ++i)
+      for (int k = 0; k < cw; ++k) {
+        if (i == rh && k == rw) continue;
+        c |= static_cast<std::uint64_t>(rows[i][x + k] < centre) << j;
+        ++j;
+      }
+    code[x] = c;
+  }
+}
+
+namespace {
+
+/// Costs of x's window: lane k = differing bits of left and right[x - d0 - k], `bits` where
+/// that lies left of the image; a byte per lane, lanes >= n zero.
+inline std::uint64_t window_costs(const NarrowRow& r, int x, int d0) {
+  const std::uint64_t left = r.census_l[x];
+  std::uint64_t c = 0;
+  for (int k = 0; k < r.n; ++k) {
+    const int xr = x - d0 - k;
+    const std::uint64_t v =
+        xr >= 0 ? static_cast<std::uint64_t>(__builtin_popcountll(left ^ r.census_r[xr]))
+                : static_cast<std::uint64_t>(r.bits);
+    c |= v << (8 * k);
+  }
+  return c;
+}
+
+}  // namespace
+
+void rows_narrow_scalar(const NarrowRow& r) {
+  StepParams sp;
+  sp.n = r.n;
+  sp.npad = kNarrow;
+  sp.p1 = r.p1;
+  sp.p2 = r.p2;
+  std::int16_t buf[2][kNarrow];
+  std::uint16_t zero[kNarrow];
+  for (int dir = 0; dir < 2; ++dir) {
+    const int x0 = dir == 0 ? 0 : r.width - 1, dx = dir == 0 ? 1 : -1;
+    std::int16_t* prev = buf[0];
+    std::int16_t* cur = buf[1];
+    bool has_prev = false;
+    int prev_min = 0, prev_dmin = 0;
+    for (int i = 0, x = x0; i < r.width; ++i, x += dx) {
+      const int d0 = r.dmin[x];
+      if (d0 == kNoSeed) {
+        has_prev = false;
+        continue;
+      }
+      std::uint8_t* cost = r.cost + static_cast<std::size_t>(x) * kNarrow;
+      std::uint16_t* sum = r.sum + static_cast<std::size_t>(x) * kNarrow;
+      if (dir == 0) {
+        const std::uint64_t c = window_costs(r, x, d0);
+        for (int k = 0; k < kNarrow; ++k) cost[k] = static_cast<std::uint8_t>(c >> (8 * k));
+        std::fill(zero, zero + kNarrow, 0);
+      }
+      prev_min = step_scalar(has_prev ? prev : nullptr, prev_min, d0 - prev_dmin, cost, sp, cur,
+                             dir == 0 ? zero : sum);
+      if (dir == 0) std::copy(zero, zero + kNarrow, sum);
+      prev_dmin = d0;
+      has_prev = true;
+      std::swap(prev, cur);
+    }
+  }
+}
+
+void column_row_narrow_scalar(const NarrowColumnRow& r) {
+  StepParams sp;
+  sp.n = r.n;
+  sp.npad = kNarrow;
+  sp.p1 = r.p1;
+  sp.p2 = r.p2;
+  for (int x = r.x0; x < r.x1; ++x) {
+    const int d0 = r.dmin[x];
+    if (d0 == kNoSeed) continue;
+    const int xq = x - r.dx;
+    const bool has_prev =
+        r.prev_dmin != nullptr && xq >= 0 && xq < r.width && r.prev_dmin[xq] != kNoSeed;
+    const std::size_t p = static_cast<std::size_t>(x) * kNarrow;
+    const std::size_t q = static_cast<std::size_t>(has_prev ? xq : 0) * kNarrow;
+    r.cur_min[x] = step_scalar(has_prev ? r.prev + q : nullptr, has_prev ? r.prev_min[xq] : 0,
+                               d0 - (has_prev ? r.prev_dmin[xq] : 0), r.cost + p, sp, r.cur + p,
+                               r.sum + p);
+  }
+}
+
 #ifdef HAZMAP_HAVE_AVX2
 
 HAZMAP_AVX2_KERNEL int step_avx2(const std::int16_t* lq, int min_lq, int delta,
@@ -75,6 +169,238 @@ HAZMAP_AVX2_KERNEL int step_avx2(const std::int16_t* lq, int min_lq, int delta,
   return _mm_extract_epi16(m, 0);
 }
 
+
+HAZMAP_AVX2_KERNEL void census_row_avx2(const std::uint8_t* const* rows, int cw, int ch,
+                                        int width, std::uint64_t* code) {
+  const int rw = cw / 2, rh = ch / 2;
+  // The window's pixels in bit order: row and column offset.
+  const std::uint8_t* src[64];
+  int bits = 0;
+  for (int i = 0; i < ch; ++i)
+    for (int k = 0; k < cw; ++k)
+      if (i != rh || k != rw) src[bits++] = rows[i] + k;
+  const __m256i sign = _mm256_set1_epi8(static_cast<char>(0x80));
+  int x = 0;
+  for (; x + 32 <= width; x += 32) {
+    const __m256i centre = _mm256_xor_si256(
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rows[rh] + x + rw)), sign);
+    // Byte plane b of 32 pixels: bits 8 b .. 8 b + 7 of their codes.
+    __m256i plane[8];
+    for (int b = 0; b < 8; ++b) {
+      __m256i acc = _mm256_setzero_si256();
+      for (int i = 0; i < 8 && 8 * b + i < bits; ++i) {
+        const __m256i other = _mm256_xor_si256(
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src[8 * b + i] + x)), sign);
+        // other < centre (unsigned, both sign-flipped): that bit.
+        acc = _mm256_or_si256(
+            acc, _mm256_and_si256(_mm256_cmpgt_epi8(centre, other),
+                                  _mm256_set1_epi8(static_cast<char>(1 << i))));
+      }
+      plane[b] = acc;
+    }
+    // Transpose: pixel x's 8 plane bytes become its little-endian uint64.
+    const __m256i a0 = _mm256_unpacklo_epi8(plane[0], plane[1]);
+    const __m256i a1 = _mm256_unpackhi_epi8(plane[0], plane[1]);
+    const __m256i b0 = _mm256_unpacklo_epi8(plane[2], plane[3]);
+    const __m256i b1 = _mm256_unpackhi_epi8(plane[2], plane[3]);
+    const __m256i c0 = _mm256_unpacklo_epi8(plane[4], plane[5]);
+    const __m256i c1 = _mm256_unpackhi_epi8(plane[4], plane[5]);
+    const __m256i d0 = _mm256_unpacklo_epi8(plane[6], plane[7]);
+    const __m256i d1 = _mm256_unpackhi_epi8(plane[6], plane[7]);
+    // 32-bit groups (planes 0-3, 4-7) of pixels 0-3, 4-7, 8-11, 12-15 (+16 in the high lane).
+    const __m256i ab00 = _mm256_unpacklo_epi16(a0, b0), ab01 = _mm256_unpackhi_epi16(a0, b0);
+    const __m256i ab10 = _mm256_unpacklo_epi16(a1, b1), ab11 = _mm256_unpackhi_epi16(a1, b1);
+    const __m256i cd00 = _mm256_unpacklo_epi16(c0, d0), cd01 = _mm256_unpackhi_epi16(c0, d0);
+    const __m256i cd10 = _mm256_unpacklo_epi16(c1, d1), cd11 = _mm256_unpackhi_epi16(c1, d1);
+    // Codes of pixels {0,1 | 16,17}, {2,3 | 18,19}, ... {14,15 | 30,31}.
+    const __m256i r0 = _mm256_unpacklo_epi32(ab00, cd00), r1 = _mm256_unpackhi_epi32(ab00, cd00);
+    const __m256i r2 = _mm256_unpacklo_epi32(ab01, cd01), r3 = _mm256_unpackhi_epi32(ab01, cd01);
+    const __m256i r4 = _mm256_unpacklo_epi32(ab10, cd10), r5 = _mm256_unpackhi_epi32(ab10, cd10);
+    const __m256i r6 = _mm256_unpacklo_epi32(ab11, cd11), r7 = _mm256_unpackhi_epi32(ab11, cd11);
+    __m256i* out = reinterpret_cast<__m256i*>(code + x);
+    _mm256_storeu_si256(out + 0, _mm256_permute2x128_si256(r0, r1, 0x20));
+    _mm256_storeu_si256(out + 1, _mm256_permute2x128_si256(r2, r3, 0x20));
+    _mm256_storeu_si256(out + 2, _mm256_permute2x128_si256(r4, r5, 0x20));
+    _mm256_storeu_si256(out + 3, _mm256_permute2x128_si256(r6, r7, 0x20));
+    _mm256_storeu_si256(out + 4, _mm256_permute2x128_si256(r0, r1, 0x31));
+    _mm256_storeu_si256(out + 5, _mm256_permute2x128_si256(r2, r3, 0x31));
+    _mm256_storeu_si256(out + 6, _mm256_permute2x128_si256(r4, r5, 0x31));
+    _mm256_storeu_si256(out + 7, _mm256_permute2x128_si256(r6, r7, 0x31));
+  }
+  if (x < width) {
+    const std::uint8_t* tail[16];
+    for (int i = 0; i < ch; ++i) tail[i] = rows[i] + x;
+    census_row_scalar(tail, cw, ch, width - x, code + x);
+  }
+}
+
+namespace {
+
+/// Lane shifts of an 8-lane window: out[k] = in[k + s] where 0 <= k + s < 8, else kInf;
+/// s in [-9, 9]. A byte shuffle (0x80: zero) and the kInf fill for the lanes it empties.
+struct ShiftTables {
+  alignas(16) std::int8_t index[19][16];
+  alignas(16) std::int16_t fill[19][kNarrow];
+};
+constexpr ShiftTables make_shift_tables() {
+  ShiftTables t{};
+  for (int s = -9; s <= 9; ++s)
+    for (int k = 0; k < kNarrow; ++k) {
+      const int from = k + s;
+      const bool inside = from >= 0 && from < kNarrow;
+      t.index[s + 9][2 * k] = static_cast<std::int8_t>(inside ? 2 * from : -128);
+      t.index[s + 9][2 * k + 1] = static_cast<std::int8_t>(inside ? 2 * from + 1 : -128);
+      t.fill[s + 9][k] = inside ? 0 : kInf;
+    }
+  return t;
+}
+constexpr ShiftTables kShift = make_shift_tables();
+
+HAZMAP_AVX2_KERNEL inline __m128i shifted(__m128i v, int s) {
+  return _mm_max_epi16(
+      _mm_shuffle_epi8(v, _mm_load_si128(reinterpret_cast<const __m128i*>(kShift.index[s + 9]))),
+      _mm_load_si128(reinterpret_cast<const __m128i*>(kShift.fill[s + 9])));
+}
+
+/// step_scalar on one 8-lane register: lanes >= n of lq are kInf, and so are those of
+/// the result; base = min_lq in every lane.
+HAZMAP_AVX2_KERNEL inline __m128i narrow_step(__m128i lq, __m128i base, int delta, bool has_prev,
+                                              __m128i cost, __m128i p1, __m128i p2,
+                                              __m128i mask) {
+  __m128i v = cost;
+  if (has_prev) {
+    // |delta| >= 8: no lane of q's window is within 1 of p's (n <= 7): all kInf.
+    delta = std::clamp(delta, -8, 8);
+    const __m128i same = shifted(lq, delta);
+    const __m128i below = shifted(lq, delta - 1);
+    const __m128i above = shifted(lq, delta + 1);
+    __m128i best = _mm_min_epi16(same, _mm_add_epi16(base, p2));
+    best = _mm_min_epi16(best, _mm_add_epi16(_mm_min_epi16(below, above), p1));
+    v = _mm_add_epi16(v, _mm_sub_epi16(best, base));
+  }
+  return _mm_max_epi16(v, mask);
+}
+
+/// The lanes >= n mask: 0 below n, kInf from n.
+HAZMAP_AVX2_KERNEL inline __m128i narrow_mask(int n) {
+  return _mm_load_si128(reinterpret_cast<const __m128i*>(kShift.fill[std::min(9, kNarrow - n) + 9]));
+}
+
+HAZMAP_AVX2_KERNEL inline __m128i window_costs_avx2(const NarrowRow& r, int x, int d0) {
+  const std::uint64_t left = r.census_l[x];
+  std::uint64_t c = 0;
+  const int xr0 = x - d0;
+  if (xr0 - (r.n - 1) >= 0) {
+    const std::uint64_t* right = r.census_r + xr0;
+    for (int k = 0; k < r.n; ++k)
+      c |= static_cast<std::uint64_t>(__builtin_popcountll(left ^ right[-k])) << (8 * k);
+  } else {
+    c = window_costs(r, x, d0);
+  }
+  return _mm_cvtsi64_si128(static_cast<long long>(c));
+}
+
+}  // namespace
+
+HAZMAP_AVX2_KERNEL void rows_narrow_avx2(const NarrowRow& r) {
+  const __m128i p1 = _mm_set1_epi16(static_cast<short>(r.p1));
+  const __m128i p2 = _mm_set1_epi16(static_cast<short>(r.p2));
+  const __m128i mask = narrow_mask(r.n);
+  for (int dir = 0; dir < 2; ++dir) {
+    const int x0 = dir == 0 ? 0 : r.width - 1, dx = dir == 0 ? 1 : -1;
+    __m128i lq = _mm_setzero_si128(), base = _mm_setzero_si128();
+    bool has_prev = false;
+    int prev_dmin = 0;
+    for (int i = 0, x = x0; i < r.width; ++i, x += dx) {
+      const int d0 = r.dmin[x];
+      if (d0 == kNoSeed) {
+        has_prev = false;
+        continue;
+      }
+      std::uint8_t* cost = r.cost + static_cast<std::size_t>(x) * kNarrow;
+      __m128i* sum = reinterpret_cast<__m128i*>(r.sum + static_cast<std::size_t>(x) * kNarrow);
+      __m128i c;
+      if (dir == 0) {
+        c = window_costs_avx2(r, x, d0);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(cost), c);
+      } else {
+        c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(cost));
+      }
+      const __m128i v =
+          narrow_step(lq, base, d0 - prev_dmin, has_prev, _mm_cvtepu8_epi16(c), p1, p2, mask);
+      _mm_storeu_si128(sum, dir == 0 ? v : _mm_add_epi16(_mm_loadu_si128(sum), v));
+      base = _mm_broadcastw_epi16(_mm_minpos_epu16(v));
+      lq = v;
+      prev_dmin = d0;
+      has_prev = true;
+    }
+  }
+}
+
+HAZMAP_AVX2_KERNEL void column_row_narrow_avx2(const NarrowColumnRow& r) {
+  const __m128i p1 = _mm_set1_epi16(static_cast<short>(r.p1));
+  const __m128i p2 = _mm_set1_epi16(static_cast<short>(r.p2));
+  const __m128i mask = narrow_mask(r.n);
+  for (int x = r.x0; x < r.x1; ++x) {
+    const int d0 = r.dmin[x];
+    if (d0 == kNoSeed) continue;
+    const int xq = x - r.dx;
+    const bool has_prev =
+        r.prev_dmin != nullptr && xq >= 0 && xq < r.width && r.prev_dmin[xq] != kNoSeed;
+    const std::size_t p = static_cast<std::size_t>(x) * kNarrow;
+    __m128i lq = _mm_setzero_si128(), base = _mm_setzero_si128();
+    int delta = 0;
+    if (has_prev) {
+      const std::size_t q = static_cast<std::size_t>(xq) * kNarrow;
+      lq = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r.prev + q));
+      base = _mm_set1_epi16(static_cast<short>(r.prev_min[xq]));
+      delta = d0 - r.prev_dmin[xq];
+    }
+    const __m128i c = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(r.cost + p)));
+    const __m128i v = narrow_step(lq, base, delta, has_prev, c, p1, p2, mask);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(r.cur + p), v);
+    r.cur_min[x] = _mm_extract_epi16(_mm_minpos_epu16(v), 0);
+    __m128i* sum = reinterpret_cast<__m128i*>(r.sum + p);
+    _mm_storeu_si128(sum, _mm_add_epi16(_mm_loadu_si128(sum), v));
+  }
+}
+
+HAZMAP_AVX2_KERNEL void winners_narrow_avx2(const WinnerRow& r) {
+  const int n = r.n;
+  const __m128i above_n = _mm_cmpgt_epi16(_mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7),
+                                          _mm_set1_epi16(static_cast<short>(n - 1)));
+  for (int x = 0; x < r.width; ++x) {
+    r.disp[x] = -1.f;
+    const int d0 = r.dmin[x];
+    if (d0 == kNoSeed) continue;
+    const std::uint16_t* s = r.sum + static_cast<std::size_t>(x) * kNarrow;
+    // Lanes >= n to kNoSum; minpos: the lowest sum and its first lane.
+    const __m128i m = _mm_minpos_epu16(
+        _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(s)), above_n));
+    const int best = _mm_extract_epi16(m, 0);
+    const int kb = _mm_extract_epi16(m, 1);
+    if (x - d0 < 0) continue;
+    const int kmax = std::min(n - 1, x - d0);
+    std::uint16_t* rs = r.right_s + (x - d0);
+    std::int16_t* rd = r.right_d + (x - d0);
+    for (int k = 0; k <= kmax; ++k) {
+      const bool lower = s[k] < rs[-k];
+      rs[-k] = lower ? s[k] : rs[-k];
+      rd[-k] = lower ? static_cast<std::int16_t>(d0 + k) : rd[-k];
+    }
+    if (x - d0 - kb < 0) continue;
+    if ((kb == 0 && d0 > r.lo) || (kb == n - 1 && d0 + n < r.hi)) continue;
+    float d = static_cast<float>(d0 + kb);
+    if (kb > 0 && kb < n - 1) {
+      const int a = s[kb - 1], c = s[kb + 1];
+      const int denom = a + c - 2 * best;
+      if (denom > 0) d += static_cast<float>(a - c) / static_cast<float>(2 * denom);
+    }
+    r.disp[x] = d;
+    r.winner[x] = static_cast<std::int16_t>(d0 + kb);
+  }
+}
+
 bool avx2_available() { return simd::has_avx2(); }
 
 #else
@@ -83,6 +409,14 @@ int step_avx2(const std::int16_t* lq, int min_lq, int delta, const std::uint8_t*
               const StepParams& p, std::int16_t* lp, std::uint16_t* sum) {
   return step_scalar(lq, min_lq, delta, cost, p, lp, sum);
 }
+
+void census_row_avx2(const std::uint8_t* const* rows, int cw, int ch, int width,
+                     std::uint64_t* code) {
+  census_row_scalar(rows, cw, ch, width, code);
+}
+void rows_narrow_avx2(const NarrowRow& r) { rows_narrow_scalar(r); }
+void column_row_narrow_avx2(const NarrowColumnRow& r) { column_row_narrow_scalar(r); }
+void winners_narrow_avx2(const WinnerRow&) {}  // never called: avx2_available() is false
 
 bool avx2_available() { return false; }
 

@@ -19,8 +19,7 @@ using c2f::kPad;
 
 namespace {
 
-/// dmin of a pixel without a window (no seed from the coarser level).
-constexpr std::int16_t kNoSeed = std::numeric_limits<std::int16_t>::min();
+using c2f::kNoSeed;
 
 int round_up(int v, int q) { return (v + q - 1) / q * q; }
 
@@ -52,9 +51,10 @@ struct C2fMatcher::Level {
   cv::Size size;
   int lo = 0, hi = 0;  // disparities [lo, hi) at this level
   int n = 0;           // disparities per pixel window
-  int npad = 0;        // n rounded up to kLanes
-  int stride = 0;      // a padded path-cost vector: kPad + npad + kPad
+  int npad = 0;        // n rounded up to kLanes; kNarrow on a narrow level
+  int stride = 0;      // a padded path-cost vector: kPad + npad + kPad; narrow: kNarrow
   bool full = false;   // the coarsest level: every pixel searches [lo, hi)
+  bool narrow = false; // a finer level with n <= kNarrowMax: the 8-lane kernels
   cv::Mat left, right;            // CV_8U
   cv::Mat left_pad, right_pad;    // borders replicated for the census window
   std::vector<std::uint64_t> census_l, census_r;
@@ -64,7 +64,7 @@ struct C2fMatcher::Level {
   std::vector<float> disp;            // result [px of this level], < 0 invalid
   std::vector<std::int16_t> winner;   // its whole-pixel winner, for the left-right check
   std::vector<std::uint8_t> conf;     // full level: confidence x 255
-  std::vector<int> right_s;           // LR: per right pixel the lowest sum ...
+  std::vector<std::uint16_t> right_s; // LR: per right pixel the lowest sum ...
   std::vector<std::int16_t> right_d;  // ... and its disparity
   std::vector<std::int16_t> state;    // column / diagonal passes: 2 rows of W padded vectors
   std::vector<int> state_min;         // 2 x W
@@ -108,8 +108,9 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
     if (L.n < 2)
       throw Error("config: key 'stereo.c2f.levels': level " + std::to_string(l) +
                   " has no disparities to search");
-    L.npad = round_up(L.n, kLanes);
-    L.stride = kPad + L.npad + kPad;
+    L.narrow = !L.full && L.n <= c2f::kNarrowMax;
+    L.npad = L.narrow ? c2f::kNarrow : round_up(L.n, kLanes);
+    L.stride = L.narrow ? c2f::kNarrow : kPad + L.npad + kPad;
     const size_t pixels = static_cast<size_t>(size.area());
     if (l > 0) {
       L.left.create(size, CV_8UC1);
@@ -141,7 +142,7 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
   scratch_.assign(static_cast<size_t>(strips_),
                   std::vector<std::int16_t>(2 * static_cast<size_t>(widest), kInf));
   confidence_.create(image, CV_8UC1);
-  pyramid_row_.assign(static_cast<size_t>(image.width), 0);
+  pyramid_row_.assign(static_cast<size_t>(image.width) * static_cast<size_t>(strips_), 0);
   valid_by_level_.assign(levels_.size(), 0);
 }
 
@@ -150,13 +151,6 @@ C2fMatcher::C2fMatcher(C2fMatcher&&) noexcept = default;
 C2fMatcher& C2fMatcher::operator=(C2fMatcher&&) noexcept = default;
 
 namespace c2f_detail {
-
-/// Appends one census bit per pixel: other[x] darker than centre[x].
-HAZMAP_KERNEL void census_bit(const std::uint8_t* other, const std::uint8_t* centre, int width,
-                              std::uint64_t* code) {
-  for (int x = 0; x < width; ++x)
-    code[x] = (code[x] << 1) | static_cast<std::uint64_t>(other[x] < centre[x]);
-}
 
 /// cost[k] = differing bits of `left` and right[xr0 - k], `bits` where xr0 - k < 0.
 HAZMAP_KERNEL void hamming_window(std::uint64_t left, const std::uint64_t* right, int xr0, int n,
@@ -167,50 +161,121 @@ HAZMAP_KERNEL void hamming_window(std::uint64_t left, const std::uint64_t* right
   }
 }
 
+using c2f::kNoSum;
+using c2f::WinnerRow;
+
+/// Winner takes all (the first lowest sum), the right image's lowest sums for the
+/// left-right check, uniqueness and confidence (full level) or the window-edge test, the
+/// parabola. Written as plain reductions the compiler vectorises.
+HAZMAP_KERNEL void winners_row(const WinnerRow& r) {
+  const int n = r.n;
+  for (int x = 0; x < r.width; ++x) {
+    r.disp[x] = -1.f;
+    const int d0 = r.dmin[x];
+    if (d0 == kNoSeed) continue;
+    const std::uint16_t* s = r.sum + static_cast<size_t>(x) * static_cast<size_t>(r.npad);
+    std::uint16_t best = kNoSum;
+    for (int k = 0; k < n; ++k) best = std::min(best, s[k]);
+    int kb = 0;
+    while (s[kb] != best) ++kb;
+    // Right pixel x - d0 - k (>= 0) keeps its first lowest sum.
+    if (x - d0 < 0) continue;  // every right pixel left of the image
+    const int kmax = std::min(n - 1, x - d0);
+    std::uint16_t* rs = r.right_s + (x - d0);
+    std::int16_t* rd = r.right_d + (x - d0);
+    for (int k = 0; k <= kmax; ++k) {
+      const bool lower = s[k] < rs[-k];
+      rs[-k] = lower ? s[k] : rs[-k];
+      rd[-k] = lower ? static_cast<std::int16_t>(d0 + k) : rd[-k];
+    }
+    if (x - d0 - kb < 0) continue;
+    if (r.full) {
+      std::uint16_t low = kNoSum;
+      for (int k = 0; k < kb - 1; ++k) low = std::min(low, s[k]);
+      for (int k = kb + 2; k < n; ++k) low = std::min(low, s[k]);
+      const int second = low == kNoSum ? std::numeric_limits<int>::max() : low;
+      r.conf[x] = second > 0 && second != std::numeric_limits<int>::max()
+                      ? static_cast<std::uint8_t>(255 * (second - best) / second)
+                      : 0;
+      if (r.uniqueness > 0 && second != std::numeric_limits<int>::max() &&
+          best * 100 >= (100 - r.uniqueness) * second)
+        continue;
+    } else if ((kb == 0 && d0 > r.lo) || (kb == n - 1 && d0 + n < r.hi)) {
+      continue;  // the minimum lies outside the window: the seed was wrong
+    }
+    float d = static_cast<float>(d0 + kb);
+    if (kb > 0 && kb < n - 1) {
+      const int a = s[kb - 1], c = s[kb + 1];
+      const int denom = a + c - 2 * best;
+      if (denom > 0) d += static_cast<float>(a - c) / static_cast<float>(2 * denom);
+    }
+    r.disp[x] = d;
+    r.winner[x] = static_cast<std::int16_t>(d0 + kb);
+  }
+}
+
 }  // namespace c2f_detail
 
 namespace {
 
 /// Half size with the [1 4 6 4 1] / 16 kernel in both directions, borders reflected
-/// (OpenCV's BORDER_REFLECT_101, as cv::pyrDown), rounded; `row`: src.cols ints.
-void pyramid_down(const cv::Mat& src, cv::Mat& dst, std::vector<int>& row) {
+/// (OpenCV's BORDER_REFLECT_101, as cv::pyrDown), rounded; `rows`: strips x src.cols ints,
+/// row strips in parallel.
+void pyramid_down(const cv::Mat& src, cv::Mat& dst, std::vector<int>& rows, int strips) {
   const int w = src.cols, h = src.rows;
   auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
   static constexpr int kTaps[5] = {1, 4, 6, 4, 1};
-  for (int y = 0; y < dst.rows; ++y) {
-    const std::uint8_t* r[5];
-    for (int t = 0; t < 5; ++t) r[t] = src.ptr<std::uint8_t>(reflect(2 * y - 2 + t, h));
-    for (int x = 0; x < w; ++x)
-      row[static_cast<size_t>(x)] = r[0][x] + 4 * r[1][x] + 6 * r[2][x] + 4 * r[3][x] + r[4][x];
-    std::uint8_t* out = dst.ptr<std::uint8_t>(y);
-    for (int x = 0; x < dst.cols; ++x) {
-      int sum = 0;
-      for (int t = 0; t < 5; ++t) sum += kTaps[t] * row[static_cast<size_t>(reflect(2 * x - 2 + t, w))];
-      out[x] = static_cast<std::uint8_t>((sum + 128) >> 8);
+  parallel_rows(cv::Range(0, strips), [&](const cv::Range& range) {
+    for (int s = range.start; s < range.end; ++s) {
+      int* row = rows.data() + static_cast<size_t>(s) * static_cast<size_t>(w);
+      const cv::Range ys = piece(dst.rows, strips, s);
+      for (int y = ys.start; y < ys.end; ++y) {
+        const std::uint8_t* r[5];
+        for (int t = 0; t < 5; ++t) r[t] = src.ptr<std::uint8_t>(reflect(2 * y - 2 + t, h));
+        for (int x = 0; x < w; ++x)
+          row[x] = r[0][x] + 4 * r[1][x] + 6 * r[2][x] + 4 * r[3][x] + r[4][x];
+        std::uint8_t* out = dst.ptr<std::uint8_t>(y);
+        // Interior columns without reflection; the borders with it.
+        const int inner_end = std::max(1, std::min(dst.cols, (w - 3) / 2 + 1));
+        for (int x = 1; x < inner_end; ++x) {
+          const int* c = row + 2 * x;
+          const int sum = c[-2] + 4 * c[-1] + 6 * c[0] + 4 * c[1] + c[2];
+          out[x] = static_cast<std::uint8_t>((sum + 128) >> 8);
+        }
+        auto border = [&](int x) {
+          int sum = 0;
+          for (int t = 0; t < 5; ++t) sum += kTaps[t] * row[reflect(2 * x - 2 + t, w)];
+          out[x] = static_cast<std::uint8_t>((sum + 128) >> 8);
+        };
+        border(0);
+        for (int x = inner_end; x < dst.cols; ++x) border(x);
+      }
     }
-  }
+  });
 }
 
 /// Census of every pixel of `src` (borders replicated into `pad`): bit per window pixel
 /// (row-major, centre skipped), set where it is darker than the centre.
-void census(const cv::Mat& src, cv::Mat& pad, int cw, int ch, std::vector<std::uint64_t>& out) {
-  const int rw = cw / 2, rh = ch / 2;
-  cv::copyMakeBorder(src, pad, rh, rh, rw, rw, cv::BORDER_REPLICATE);
+void census(const cv::Mat& src, cv::Mat& pad, int cw, int ch, bool avx2,
+            std::vector<std::uint64_t>& out) {
+  const int rh = ch / 2;
+  cv::copyMakeBorder(src, pad, rh, rh, cw / 2, cw / 2, cv::BORDER_REPLICATE);
   const int width = src.cols;
+  const auto row_kernel = avx2 ? c2f::census_row_avx2 : c2f::census_row_scalar;
   parallel_rows(cv::Range(0, src.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
-      std::uint64_t* code = out.data() + static_cast<size_t>(y) * static_cast<size_t>(width);
-      const std::uint8_t* centre = pad.ptr<std::uint8_t>(y + rh) + rw;
-      std::fill(code, code + width, 0);
-      for (int dy = -rh; dy <= rh; ++dy) {
-        const std::uint8_t* row = pad.ptr<std::uint8_t>(y + rh + dy) + rw;
-        for (int dx = -rw; dx <= rw; ++dx) {
-          if (dx == 0 && dy == 0) continue;
-          c2f_detail::census_bit(row + dx, centre, width, code);
-        }
-      }
+      const std::uint8_t* window[16];
+      for (int i = 0; i < ch; ++i) window[i] = pad.ptr<std::uint8_t>(y + i);
+      row_kernel(window, cw, ch, width,
+                 out.data() + static_cast<size_t>(y) * static_cast<size_t>(width));
     }
   });
+}
+
+/// std::lround for x >= 0, without the library call.
+inline int round_non_negative(float x) {
+  const int whole = static_cast<int>(x);
+  return whole + (x - static_cast<float>(whole) >= 0.5f ? 1 : 0);
 }
 
 }  // namespace
@@ -233,7 +298,7 @@ void C2fMatcher::seed_level(int l) {
         const float d = coarse[x / 2];
         dmin[x] = d < 0 ? kNoSeed
                         : static_cast<std::int16_t>(
-                              std::clamp(static_cast<int>(std::lround(2 * d)) - r, L.lo, top));
+                              std::clamp(round_non_negative(2 * d) - r, L.lo, top));
       }
       if (!config_.fill_unseeded) continue;
       // A hole takes the smaller of the nearest windows left and right of it: occlusions
@@ -259,14 +324,14 @@ void C2fMatcher::match_level(int l) {
   const int w = L.size.width, h = L.size.height;
   const int n = L.n, npad = L.npad, stride = L.stride;
   const int bits = config_.census_width * config_.census_height - 1;
-  census(L.left, L.left_pad, config_.census_width, config_.census_height, L.census_l);
-  census(L.right, L.right_pad, config_.census_width, config_.census_height, L.census_r);
+  census(L.left, L.left_pad, config_.census_width, config_.census_height, avx2_, L.census_l);
+  census(L.right, L.right_pad, config_.census_width, config_.census_height, avx2_, L.census_r);
   seed_level(l);
 
   auto at = [&](int x, int y) { return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x); };
 
-  // Costs, and the sums zeroed.
-  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+  // Costs, and the sums zeroed (a narrow level: in its first row pass).
+  if (!L.narrow) parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const std::uint64_t* cl = L.census_l.data() + at(0, y);
       const std::uint64_t* cr = L.census_r.data() + at(0, y);
@@ -297,6 +362,23 @@ void C2fMatcher::match_level(int l) {
       std::int16_t* a = buffer.data() + kPad;
       std::int16_t* b = a + stride;
       const cv::Range rows = piece(h, strips_, s);
+      if (L.narrow) {
+        c2f::NarrowRow r;
+        r.width = w;
+        r.n = n;
+        r.bits = bits;
+        r.p1 = config_.p1;
+        r.p2 = config_.p2;
+        for (int y = rows.start; y < rows.end; ++y) {
+          r.dmin = L.dmin.data() + at(0, y);
+          r.census_l = L.census_l.data() + at(0, y);
+          r.census_r = L.census_r.data() + at(0, y);
+          r.cost = L.cost.data() + at(0, y) * static_cast<size_t>(npad);
+          r.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
+          (avx2_ ? c2f::rows_narrow_avx2 : c2f::rows_narrow_scalar)(r);
+        }
+        continue;
+      }
       for (int y = rows.start; y < rows.end; ++y) {
         for (int dir = 0; dir < 2; ++dir) {
           const int x0 = dir == 0 ? 0 : w - 1, dx = dir == 0 ? 1 : -1;
@@ -322,7 +404,34 @@ void C2fMatcher::match_level(int l) {
 
   // Down and up the columns (and diagonals with 8 paths): rows in order, each row's
   // pixels from the row before; column strips in parallel, diagonals serial.
+  auto vertical_narrow = [&](int dx, int dy, cv::Range cols) {
+    c2f::NarrowColumnRow r;
+    r.width = w;
+    r.n = n;
+    r.p1 = config_.p1;
+    r.p2 = config_.p2;
+    r.x0 = cols.start;
+    r.x1 = cols.end;
+    r.dx = dx;
+    const auto kernel = avx2_ ? c2f::column_row_narrow_avx2 : c2f::column_row_narrow_scalar;
+    const int y0 = dy > 0 ? 0 : h - 1;
+    for (int i = 0, y = y0; i < h; ++i, y += dy) {
+      r.dmin = L.dmin.data() + at(0, y);
+      r.prev_dmin = i > 0 ? L.dmin.data() + at(0, y - dy) : nullptr;
+      r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * w * stride;
+      r.prev_min = L.state_min.data() + static_cast<size_t>((i + 1) & 1) * w;
+      r.cur = L.state.data() + static_cast<size_t>(i & 1) * w * stride;
+      r.cur_min = L.state_min.data() + static_cast<size_t>(i & 1) * w;
+      r.cost = L.cost.data() + at(0, y) * static_cast<size_t>(npad);
+      r.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
+      kernel(r);
+    }
+  };
   auto vertical = [&](int dx, int dy, cv::Range cols) {
+    if (L.narrow) {
+      vertical_narrow(dx, dy, cols);
+      return;
+    }
     std::int16_t* rowbuf[2] = {L.state.data() + kPad,
                                L.state.data() + kPad + static_cast<size_t>(w) * stride};
     int* rowmin[2] = {L.state_min.data(), L.state_min.data() + w};
@@ -364,50 +473,27 @@ void C2fMatcher::match_level(int l) {
   const int uniq = config_.uniqueness;
   parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
-      int* rs = L.right_s.data() + at(0, y);
+      std::uint16_t* rs = L.right_s.data() + at(0, y);
       std::int16_t* rd = L.right_d.data() + at(0, y);
-      std::fill(rs, rs + w, std::numeric_limits<int>::max());
+      std::fill(rs, rs + w, c2f::kNoSum);
       std::fill(rd, rd + w, static_cast<std::int16_t>(-1));
       float* disp = L.disp.data() + at(0, y);
-      for (int x = 0; x < w; ++x) {
-        disp[x] = -1.f;
-        const int d0 = L.dmin[at(x, y)];
-        if (d0 == kNoSeed) continue;
-        const std::uint16_t* s = L.sum.data() + at(x, y) * static_cast<size_t>(npad);
-        int kb = 0;
-        for (int k = 0; k < n; ++k) {
-          if (s[k] < s[kb]) kb = k;
-          const int xr = x - d0 - k;
-          if (xr >= 0 && s[k] < rs[xr]) {
-            rs[xr] = s[k];
-            rd[xr] = static_cast<std::int16_t>(d0 + k);
-          }
-        }
-        if (x - d0 - kb < 0) continue;
-        const int best = s[kb];
-        if (L.full) {
-          int second = std::numeric_limits<int>::max();
-          for (int k = 0; k < n; ++k)
-            if (std::abs(k - kb) > 1) second = std::min(second, static_cast<int>(s[k]));
-          L.conf[at(x, y)] =
-              second > 0 && second != std::numeric_limits<int>::max()
-                  ? static_cast<std::uint8_t>(255 * (second - best) / second)
-                  : 0;
-          if (uniq > 0 && second != std::numeric_limits<int>::max() &&
-              best * 100 >= (100 - uniq) * second)
-            continue;
-        } else if ((kb == 0 && d0 > L.lo) || (kb == n - 1 && d0 + n < L.hi)) {
-          continue;  // the minimum lies outside the window: the seed was wrong
-        }
-        float d = static_cast<float>(d0 + kb);
-        if (kb > 0 && kb < n - 1) {
-          const int a = s[kb - 1], c = s[kb + 1];
-          const int denom = a + c - 2 * best;
-          if (denom > 0) d += static_cast<float>(a - c) / static_cast<float>(2 * denom);
-        }
-        disp[x] = d;
-        L.winner[at(x, y)] = static_cast<std::int16_t>(d0 + kb);
-      }
+      c2f::WinnerRow row;
+      row.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
+      row.npad = npad;
+      row.n = n;
+      row.width = w;
+      row.lo = L.lo;
+      row.hi = L.hi;
+      row.full = L.full;
+      row.uniqueness = uniq;
+      row.dmin = L.dmin.data() + at(0, y);
+      row.right_s = rs;
+      row.right_d = rd;
+      row.disp = disp;
+      row.winner = L.winner.data() + at(0, y);
+      row.conf = L.full ? L.conf.data() + at(0, y) : nullptr;
+      (avx2_ && L.narrow ? c2f::winners_narrow_avx2 : c2f_detail::winners_row)(row);
       if (lr < 0) continue;
       for (int x = 0; x < w; ++x) {
         if (disp[x] < 0) continue;
@@ -433,8 +519,8 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
   L0.left = left;
   L0.right = right;
   for (size_t l = 1; l < levels_.size(); ++l) {
-    pyramid_down(levels_[l - 1].left, levels_[l].left, pyramid_row_);
-    pyramid_down(levels_[l - 1].right, levels_[l].right, pyramid_row_);
+    pyramid_down(levels_[l - 1].left, levels_[l].left, pyramid_row_, strips_);
+    pyramid_down(levels_[l - 1].right, levels_[l].right, pyramid_row_, strips_);
   }
   for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) match_level(l);
 
@@ -451,7 +537,7 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
           top.conf.data() + static_cast<size_t>(y >> shift) * static_cast<size_t>(top.size.width);
       for (int x = 0; x < L0.size.width; ++x) {
         out[x] = d[x] < 0 ? static_cast<std::int16_t>(invalid)
-                          : static_cast<std::int16_t>(std::lround(16.f * d[x]));
+                          : static_cast<std::int16_t>(round_non_negative(16.f * d[x]));
         conf[x] = tc[x >> shift];
       }
     }

@@ -193,6 +193,43 @@ TEST(C2fMatcher, Avx2KernelsEqualTheScalarReference) {
       }
 }
 
+// The same for every kernel a level can use: the 8-lane narrow passes (radius 1-3,
+// windows of 3-7 disparities, costs computed in the row pass), the 16-lane step (radius
+// 7: 15), and census windows from 5 x 3 to 9 x 7 (the AVX2 census works in 32-pixel
+// chunks: 203 columns leave a tail at every level). Disparities and confidences equal.
+TEST(C2fMatcher, Avx2KernelsEqualTheScalarReferenceForEveryWindow) {
+  const cv::Size size(203, 97);
+  const cv::Mat wide = texture(cv::Size(size.width + 40, size.height), 33);
+  const cv::Mat left = wide(cv::Rect(0, 0, size.width, size.height)).clone();
+  cv::Mat right = wide(cv::Rect(17, 0, size.width, size.height)).clone();
+  right(cv::Rect(100, 30, 25, 20)).setTo(90);
+  cv::Mat noise(size, CV_8UC1);
+  cv::randn(noise, 0, 8);
+  cv::add(right, noise, right);
+  struct Case { int radius, cw, ch; };
+  for (const Case k : {Case{1, 9, 7}, Case{2, 5, 3}, Case{3, 5, 5}, Case{7, 7, 3}}) {
+    C2fConfig c = plain_config();
+    c.radius = k.radius;
+    c.census_width = k.cw;
+    c.census_height = k.ch;
+    c.levels = 3;
+    C2fMatcher scalar(c, 0, 48, size, 0, 0, C2fKernels::scalar);
+    C2fMatcher fast(c, 0, 48, size, 0, 0, C2fKernels::best);
+    if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+    cv::Mat a, b;
+    scalar.compute(left, right, a);
+    fast.compute(left, right, b);
+    EXPECT_EQ(cv::countNonZero(a != b), 0) << "radius " << k.radius << ", census " << k.cw
+                                           << " x " << k.ch;
+    EXPECT_EQ(cv::countNonZero(scalar.confidence() != fast.confidence()), 0);
+    EXPECT_EQ(scalar.valid_by_level(), fast.valid_by_level());
+    // Something to compare: the finest level keeps over a quarter of the pixels (radius
+    // 1 the fewest: 31 %).
+    EXPECT_GT(scalar.valid_by_level()[0], static_cast<size_t>(size.area() / 4))
+        << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
+  }
+}
+
 // Census compares pixels with their neighbours only: a right image at 0.6 x + 20 DN
 // matches the same. Rounding 0.6 x merges neighbouring grey values, which flips the bits
 // of equal pairs; a contrasty texture keeps that rare. BM and SGBM (SAD on the

@@ -66,7 +66,7 @@ class C2fMatcher {
   int strips_ = 1;
   cv::Mat confidence_;
   cv::Mat speckle_buffer_;
-  std::vector<int> pyramid_row_;  // one source row, filtered vertically
+  std::vector<int> pyramid_row_;  // per strip one source row, filtered vertically
   std::vector<std::size_t> valid_by_level_;
 };
 
