@@ -37,6 +37,7 @@ inline std::filesystem::path source_dir() { return HAZMAP_SOURCE_DIR; }
 
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <opencv2/core.hpp>
@@ -52,6 +53,30 @@ inline std::string read_text(const std::filesystem::path& path) {
   std::ostringstream content;
   content << in.rdbuf();
   return content.str();
+}
+
+/// Writes `text` to `path` byte for byte, replacing the file.
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+/// `text` with its first `from` replaced by `to`; a test failure when `from` is absent.
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// Every file under `root` with its bytes (folders as "<folder>"; empty for a missing
+/// root): compare two to tell that a command left an output folder exactly as it was.
+inline std::map<std::string, std::string> snapshot(const std::filesystem::path& root) {
+  std::map<std::string, std::string> files;
+  if (!std::filesystem::exists(root)) return files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(root))
+    files[std::filesystem::relative(e.path(), root).string()] =
+        e.is_regular_file() ? read_text(e.path()) : std::string("<folder>");
+  return files;
 }
 
 /// What a shell command printed (as its own redirections direct) and its exit code.
@@ -71,6 +96,27 @@ inline CommandResult run_command(const std::string& command) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+#ifdef HAZMAP_CLI
+/// `hazmap ARGS` through the shell: its stderr (stdout discarded) and exit code.
+inline CommandResult run_hazmap(const std::string& args) {
+  return run_command(std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null");
+}
+#endif
+
+/// An earlier run's OUT (summary.json, run.log and one frame's layer, all small text)
+/// for tests that check a refused command leaves OUT exactly as it was.
+inline void write_previous_out(const std::filesystem::path& out) {
+  std::filesystem::create_directories(out / "frames/000000");
+  write_text(out / "summary.json", "{\"finished\": true, \"previous\": 1}\n");
+  write_text(out / "run.log", "previous run\n");
+  write_text(out / "frames/000000/L0_height.jdem", "previous\n");
+}
+
+/// A config for write_tiny_sequence's 64 x 48 pairs: 16 disparities, one 16-cell layer.
+inline const char* const kTinyConfig =
+    "stereo: {num_disparities: 16, block_size: 5, z_max: 10}\n"
+    "map:\n  layers:\n    - {resolution: 0.01, size: 16, rule: kalman, hazard: {kernel: 3}}\n";
 
 /// Writes a tiny but complete sequence (random-texture 64 x 48 PNG pairs of level ground
 /// seen from above, a rectified calibration and straight-line poses) for input-handling

@@ -68,24 +68,23 @@ void check_focal(const StereoCalibration& c, const RigLimits& limits, std::vecto
       const double f = cam->K(axis, axis);
       const double side = axis == 0 ? c.image_width : c.image_height;
       const double fov = 2 * std::atan(0.5 * side / f) * kRadToDeg;
-      if (fov > limits.max_fov_deg) {
+      // The two messages differ only in the field of view's precision and the hint.
+      const auto implausible = [&](const char* fov_format, const char* hint) {
         out.push_back({true, c.source + ": key '" + key + "': " + (axis ? "fy" : "fx") +
-                                 fmt(" = %g px gives a %.0f deg field of view across the %.0f px "
-                                     "image (plausible: %g-",
-                                     f, fov, side, limits.min_fov_deg) +
-                                 fmt("%g deg): K is in pixels; a focal length in millimetres "
-                                     "must be divided by the pixel pitch (f_px = f_mm / pitch_mm)",
-                                     limits.max_fov_deg)});
+                                 fmt(" = %g px gives a ", f) + fmt(fov_format, fov) +
+                                 fmt(" deg field of view across the %.0f px image (plausible: %g-%g "
+                                     "deg): ",
+                                     side, limits.min_fov_deg, limits.max_fov_deg) +
+                                 hint});
+      };
+      if (fov > limits.max_fov_deg) {
+        implausible("%.0f", "K is in pixels; a focal length in millimetres must be divided by the "
+                            "pixel pitch (f_px = f_mm / pitch_mm)");
         return;
       }
       if (fov < limits.min_fov_deg) {
-        out.push_back({true, c.source + ": key '" + key + "': " + (axis ? "fy" : "fx") +
-                                 fmt(" = %g px gives a %.2f deg field of view across the %.0f px "
-                                     "image (plausible: %g-",
-                                     f, fov, side, limits.min_fov_deg) +
-                                 fmt("%g deg): K must be in pixels of these images (written for a "
-                                     "larger image, or in other units?)",
-                                     limits.max_fov_deg)});
+        implausible("%.2f", "K must be in pixels of these images (written for a larger image, or in "
+                            "other units?)");
         return;
       }
     }

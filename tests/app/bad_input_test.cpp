@@ -21,6 +21,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::CommandResult;
+using testing::write_text;
+using testing::replaced;
+using testing::snapshot;
+
+const char* const kConfig = testing::kTinyConfig;
 
 const char* const kCalibration =
     "image_width: 64\nimage_height: 48\nrectified: true\n"
@@ -47,10 +52,6 @@ const char* const kOpenCvNanD1 =
     "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n"
     "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.05, 0., 0. ]\n";
 
-const char* const kConfig =
-    "stereo: {num_disparities: 16, block_size: 5, z_max: 10}\n"
-    "map:\n  layers:\n    - {resolution: 0.01, size: 16, rule: kalman, hazard: {kernel: 3}}\n";
-
 /// One bad input: `damage` edits the case folder (SEQ = dir/seq, config = dir/config.yaml),
 /// `extra` is appended to the command line, `culprit` must appear in the one line.
 struct Case {
@@ -61,33 +62,22 @@ struct Case {
   bool stereo_too = true;  ///< also run `hazmap stereo` on it
 };
 
-void write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
 /// A damage that rewrites calibration.yaml from kCalibration with one replacement.
 std::function<void(const fs::path&)> calibration(const std::string& from, const std::string& to,
                                                  const char* base = kCalibration) {
-  return [=](const fs::path& dir) { write(dir / "seq/calibration.yaml", replaced(base, from, to)); };
+  return [=](const fs::path& dir) { write_text(dir / "seq/calibration.yaml", replaced(base, from, to)); };
 }
 std::function<void(const fs::path&)> calibration_text(const std::string& text) {
-  return [=](const fs::path& dir) { write(dir / "seq/calibration.yaml", text); };
+  return [=](const fs::path& dir) { write_text(dir / "seq/calibration.yaml", text); };
 }
 std::function<void(const fs::path&)> poses(const std::string& text) {
-  return [=](const fs::path& dir) { write(dir / "seq/poses.txt", text); };
+  return [=](const fs::path& dir) { write_text(dir / "seq/poses.txt", text); };
 }
 std::function<void(const fs::path&)> config(const std::string& from, const std::string& to) {
-  return [=](const fs::path& dir) { write(dir / "config.yaml", replaced(kConfig, from, to)); };
+  return [=](const fs::path& dir) { write_text(dir / "config.yaml", replaced(kConfig, from, to)); };
 }
 std::function<void(const fs::path&)> config_text(const std::string& text) {
-  return [=](const fs::path& dir) { write(dir / "config.yaml", text); };
+  return [=](const fs::path& dir) { write_text(dir / "config.yaml", text); };
 }
 std::function<void(const fs::path&)> nothing() { return [](const fs::path&) {}; }
 
@@ -106,7 +96,7 @@ cv::Mat texture(int rows, int cols, int type) {
 std::function<void(const fs::path&)> image(const std::string& which, std::function<std::string(const std::string&)> bytes) {
   return [=](const fs::path& dir) {
     const fs::path p = dir / "seq" / which;
-    write(p, bytes(testing::read_text(p)));
+    write_text(p, bytes(testing::read_text(p)));
   };
 }
 
@@ -116,20 +106,11 @@ std::string fill(std::string culprit, const fs::path& dir) {
   return culprit;
 }
 
-/// Every file under `root` with its content.
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    files[fs::relative(e.path(), root).string()] =
-        e.is_regular_file() ? testing::read_text(e.path()) : std::string("<folder>");
-  return files;
-}
-
 class BadInputs {
  public:
   BadInputs() {
     testing::write_tiny_sequence(base_ / "seq", 3);
-    write(base_ / "config.yaml", kConfig);
+    write_text(base_ / "config.yaml", kConfig);
   }
 
   /// Runs the case through `command` (run or stereo).
@@ -139,17 +120,13 @@ class BadInputs {
     fs::copy(base_, dir, fs::copy_options::recursive);
     c.damage(dir);
     // A previous run's OUT, which a failed run must leave exactly as it is.
-    fs::create_directories(dir / "out/frames/000000");
-    write(dir / "out/summary.json", "{\"finished\": true, \"previous\": 1}\n");
-    write(dir / "out/run.log", "previous run\n");
-    write(dir / "out/stereo_summary.json", "{}\n");
-    write(dir / "out/frames/000000/L0_height.jdem", "previous\n");
+    testing::write_previous_out(dir / "out");
+    write_text(dir / "out/stereo_summary.json", "{}\n");
     const auto before = snapshot(dir / "out");
-    const std::string line = std::string(HAZMAP_CLI) + " " + command + " --config " +
-                             (dir / "config.yaml").string() + " --sequence " +
-                             (dir / "seq").string() + " --out " + (dir / "out").string() +
-                             " --quiet --overwrite " + fill(c.extra, dir) + " 2>&1 1>/dev/null";
-    const CommandResult r = testing::run_command(line);
+    const CommandResult r = testing::run_hazmap(
+        command + " --config " + (dir / "config.yaml").string() + " --sequence " +
+        (dir / "seq").string() + " --out " + (dir / "out").string() + " --quiet --overwrite " +
+        fill(c.extra, dir));
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_GT(r.exit_code, 0) << "killed by a signal or a sanitizer: " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -423,14 +400,14 @@ TEST(BadInput, CommandLine) {
 TEST(BadInput, FrameDamagedInsideStopsTheRunAtThatFrame) {
   testing::TempDir dir;
   testing::write_tiny_sequence(dir / "seq", 3);
-  write(dir / "config.yaml", kConfig);
+  write_text(dir / "config.yaml", kConfig);
   fs::create_directories(dir / "out");
-  write(dir / "out/summary.json", "{\"previous\": 1}\n");
+  write_text(dir / "out/summary.json", "{\"previous\": 1}\n");
   // Flip a byte inside the pixel data: signature, IHDR and IEND stay intact.
   const fs::path bad = dir / "seq/left/000002.png";
   std::string bytes = testing::read_text(bad);
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);
-  write(bad, bytes);
+  write_text(bad, bytes);
   const CommandResult r = testing::run_command(
       std::string(HAZMAP_CLI) + " run --quiet --config " + (dir / "config.yaml").string() +
       " --sequence " + (dir / "seq").string() + " --out " + (dir / "out").string() +

@@ -17,9 +17,7 @@ namespace {
 using testing::CommandResult;
 
 /// Runs the CLI with `args`; captures stderr (stdout is discarded) into `output`.
-CommandResult run_cli(const std::string& args) {
-  return testing::run_command(std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null");
-}
+const auto run_cli = testing::run_hazmap;
 
 std::string tiny_run_args(const testing::TempDir& dir) {
   return "run --config " + (testing::source_dir() / "config/default.yaml").string() +

@@ -23,11 +23,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::CommandResult;
+using testing::snapshot;
 
 /// Runs the CLI with `args`; stderr into `output`, stdout discarded.
-CommandResult run_cli(const std::string& args) {
-  return testing::run_command(std::string(HAZMAP_CLI) + " " + args + " 2>&1 1>/dev/null");
-}
+const auto run_cli = testing::run_hazmap;
 
 const std::string kTinySets =
     " --set stereo.num_disparities=16 --set stereo.block_size=5 --set map.layers.0.size=16"
@@ -47,15 +46,6 @@ std::string stereo_args(const fs::path& seq, const fs::path& out) {
 
 int count_lines(const std::string& s) {
   return static_cast<int>(std::count(s.begin(), s.end(), '\n'));
-}
-
-/// Every file under `root` with its bytes (folders as "<folder>").
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    files[fs::relative(e.path(), root).string()] =
-        e.is_regular_file() ? testing::read_text(e.path()) : std::string("<folder>");
-  return files;
 }
 
 std::set<std::string> names_in(const fs::path& dir) {

@@ -28,29 +28,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::CommandResult;
+using testing::write_text;
+using testing::replaced;
+using testing::snapshot;
 
-const char* const kConfig =
-    "stereo: {num_disparities: 16, block_size: 5, z_max: 10}\n"
-    "map:\n  layers:\n    - {resolution: 0.01, size: 16, rule: kalman, hazard: {kernel: 3}}\n";
-
-void write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    files[fs::relative(e.path(), root).string()] =
-        e.is_regular_file() ? testing::read_text(e.path()) : std::string("<folder>");
-  return files;
-}
+const char* const kConfig = testing::kTinyConfig;
 
 /// A rotation as calibration.yaml's quaternion list, scalar last, 17 digits.
 std::string quaternion_text(const Eigen::Matrix3d& R, bool scalar_first = false) {
@@ -75,27 +57,24 @@ class Case {
  public:
   Case() {
     testing::write_tiny_sequence(dir() / "seq", 3);
-    write(dir() / "config.yaml", kConfig);
-    fs::create_directories(dir() / "out/frames/000000");
-    write(dir() / "out/summary.json", "{\"finished\": true, \"previous\": 1}\n");
-    write(dir() / "out/run.log", "previous run\n");
-    write(dir() / "out/frames/000000/L0_height.jdem", "previous\n");
+    write_text(dir() / "config.yaml", kConfig);
+    testing::write_previous_out(dir() / "out");
   }
   fs::path dir() const { return temp_.path(); }
   std::string calibration() const { return testing::read_text(dir() / "seq/calibration.yaml"); }
-  void set_calibration(const std::string& text) const { write(dir() / "seq/calibration.yaml", text); }
+  void set_calibration(const std::string& text) const { write_text(dir() / "seq/calibration.yaml", text); }
   void edit_calibration(const std::string& from, const std::string& to) const {
     set_calibration(replaced(calibration(), from, to));
   }
   /// `hazmap COMMAND` on the case with `extra`; stderr only.
   CommandResult run(const std::string& command, const std::string& extra = "") const {
-    std::string line = std::string(HAZMAP_CLI) + " " + command;
+    std::string args = command;
     if (command == "run" || command == "stereo" || command == "check")
-      line += " --config " + (dir() / "config.yaml").string() + " --sequence " +
+      args += " --config " + (dir() / "config.yaml").string() + " --sequence " +
               (dir() / "seq").string();
     if (command == "run" || command == "stereo")
-      line += " --out " + (dir() / "out").string() + " --overwrite";
-    return testing::run_command(line + " --quiet " + extra + " 2>&1 1>/dev/null");
+      args += " --out " + (dir() / "out").string() + " --overwrite";
+    return testing::run_hazmap(args + " --quiet " + extra);
   }
   std::string fill(std::string text) const {
     for (std::size_t at; (at = text.find("{dir}")) != std::string::npos;)
@@ -192,7 +171,7 @@ TEST(OwnRover, QuaternionWrittenScalarFirst) {
   const std::string right = "quaternion: [-0.624596573818, 0.624596573818, -0.33148019545, 0.33148019545]";
   calibration = replaced(calibration, right,
                          "quaternion: [0.33148019545, -0.624596573818, 0.624596573818, -0.33148019545]");
-  write(dir / "seq/calibration.yaml", calibration);
+  write_text(dir / "seq/calibration.yaml", calibration);
   const std::string config = (testing::source_dir() / "config/default.yaml").string();
   const std::string hint =
       "; T_body_left's quaternion looks written scalar first: read so, the ground would be tilted "
@@ -209,7 +188,7 @@ TEST(OwnRover, QuaternionWrittenScalarFirst) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find(hint + "\n"), std::string::npos) << r.output;
   // Written the right way round: no warning, verdict OK.
-  write(dir / "seq/calibration.yaml", replaced(calibration,
+  write_text(dir / "seq/calibration.yaml", replaced(calibration,
       "quaternion: [0.33148019545, -0.624596573818, 0.624596573818, -0.33148019545]", right));
   r = testing::run_command(std::string(HAZMAP_CLI) + " check --count 1 --config " + config +
                            " --sequence " + (dir / "seq").string() + " 2>&1");
@@ -256,7 +235,7 @@ TEST(OwnRover, PoseQuaternionWrittenScalarFirst) {
   Case c;
   std::string poses = testing::read_text(c.dir() / "seq/poses.txt");
   poses = replaced(poses, "000000 0 0 0 0 0 0 0 1", "000000 0 0 0 0 1 0 0 0");
-  write(c.dir() / "seq/poses.txt", poses);
+  write_text(c.dir() / "seq/poses.txt", poses);
   expect_refused(c, "{dir}/seq/poses.txt: frame '000000': the body is tilted 180 deg from level, so "
                     "the left camera is wrong way round in W: its optical axis points 90 deg above "
                     "the horizon and no pixel looks below it; the quaternion looks written scalar "
@@ -353,7 +332,7 @@ TEST(OwnRover, SetMistakes) {
 
 TEST(OwnRover, ConfigFileTypoSuggestsTheKey) {
   Case c;
-  write(c.dir() / "config.yaml", replaced(kConfig, "z_max: 10", "z_mx: 10"));
+  write_text(c.dir() / "config.yaml", replaced(kConfig, "z_max: 10", "z_mx: 10"));
   const auto before = snapshot(c.dir() / "out");
   const CommandResult r = c.run("run");
   EXPECT_EQ(r.exit_code, 1) << r.output;

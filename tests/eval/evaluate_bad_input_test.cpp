@@ -19,6 +19,7 @@ namespace hazmap {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::snapshot;
 
 /// A two-frame oracle run RUN of a one-rock world, with its sequence SEQ, in `dir`.
 void write_run(const fs::path& dir) {
@@ -31,16 +32,6 @@ void write_run(const fs::path& dir) {
   testing::write_poses(dir / "seq" / "poses.txt", {"000000", "000001"}, {{0.0, 0.0}, {0.0, 0.0}});
   testing::write_oracle_run(dir / "run", testing::oracle_config(), {"000000", "000001"},
                             {layers, layers});
-}
-
-/// Every file under `root` with its content ("" for a missing root).
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  if (!fs::exists(root)) return files;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    files[fs::relative(e.path(), root).string()] =
-        e.is_regular_file() ? testing::read_text(e.path()) : std::string("<folder>");
-  return files;
 }
 
 struct Outcome {

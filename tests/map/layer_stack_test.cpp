@@ -165,6 +165,30 @@ TEST(LayerStack, PerLayerTimesLeaveTheMapUnchangedAndSumToTheCallsTime) {
   }
 }
 
+/// One single-layer stack per layer of `map`: what each layer of the stack must equal.
+std::vector<std::unique_ptr<LayerStack>> each_layer_alone(const MapConfig& map,
+                                                          const RulesConfig& rules) {
+  std::vector<std::unique_ptr<LayerStack>> alone;
+  for (const LayerConfig& layer : map.layers) {
+    MapConfig one = map;
+    one.layers = {layer};
+    alone.push_back(std::make_unique<LayerStack>(one, rules));
+  }
+  return alone;
+}
+
+/// A frame into each of `stacks` (begin_frame at the robot, then the points); the cell
+/// updates summed, which the whole stack's insert must return.
+std::size_t insert_into_each(const std::vector<std::unique_ptr<LayerStack>>& stacks,
+                             const MapPoints& points, double robot_x, double robot_y) {
+  std::size_t updates = 0;
+  for (const auto& s : stacks) {
+    s->begin_frame(robot_x, robot_y);
+    updates += s->insert(points);
+  }
+  return updates;
+}
+
 // The stack hands each chunk to its layers coarsest first (whoever reads a chunk first
 // pays for its cache misses); a layer's state must still be exactly what it would be
 // alone: a mixed stack, rolling, against one single-layer stack per layer.
@@ -173,23 +197,13 @@ TEST(LayerStack, EachLayerOfAMixedStackEqualsTheSameLayerAlone) {
   map.layers[1].rule = map.layers[2].rule = RuleKind::ccm;
   const RulesConfig rules;
   LayerStack mixed(map, rules);
-  std::vector<std::unique_ptr<LayerStack>> alone;
-  for (const LayerConfig& layer : map.layers) {
-    MapConfig one = map;
-    one.layers = {layer};
-    alone.push_back(std::make_unique<LayerStack>(one, rules));
-  }
+  const auto alone = each_layer_alone(map, rules);
   std::mt19937_64 rng(5);
   for (int frame = 0; frame < 4; ++frame) {
     const MapPoints points(random_cloud(rng, 6000, 0.4));
     const double robot_x = 0.03 * frame, robot_y = -0.05 * frame;  // rolls the finer layers
     mixed.begin_frame(robot_x, robot_y);
-    std::size_t updates = 0;
-    for (auto& s : alone) {
-      s->begin_frame(robot_x, robot_y);
-      updates += s->insert(points);
-    }
-    EXPECT_EQ(mixed.insert(points), updates);
+    EXPECT_EQ(mixed.insert(points), insert_into_each(alone, points, robot_x, robot_y));
   }
   for (size_t i = 0; i < mixed.size(); ++i)
     EXPECT_GT(expect_identical_cells(mixed.layer(i), alone[i]->layer(0), "layer " + std::to_string(i)), 30)
@@ -253,24 +267,14 @@ TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
     map.layers[3].rule = RuleKind::omg;
     map.layers[1].max_std_ratio = 0.5;  // a layer's own lateral gate
     LayerStack mixed(map, rules);
-    std::vector<std::unique_ptr<LayerStack>> alone;
-    for (const LayerConfig& layer : map.layers) {
-      MapConfig one = map;
-      one.layers = {layer};
-      alone.push_back(std::make_unique<LayerStack>(one, rules));
-    }
+    const auto alone = each_layer_alone(map, rules);
     std::mt19937_64 rng(23);
     MapPoints points;
     for (int frame = 0; frame < 5; ++frame) {
       const double robot_x = 0.05 * frame, robot_y = -0.03 * frame;  // rolls every layer
       points.assign(scan_lines(rng, robot_x + 0.1, robot_y), CcmWeighting::constant);
       mixed.begin_frame(robot_x, robot_y);
-      std::size_t updates = 0;
-      for (auto& s : alone) {
-        s->begin_frame(robot_x, robot_y);
-        updates += s->insert(points);
-      }
-      EXPECT_EQ(mixed.insert(points), updates);
+      EXPECT_EQ(mixed.insert(points), insert_into_each(alone, points, robot_x, robot_y));
       for (std::size_t i = 0; i < mixed.size(); ++i) {
         const std::string what = std::string(rule_name(rule)) + " stack, layer " +
                                  std::to_string(i) + ", frame " + std::to_string(frame);

@@ -4,8 +4,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -19,6 +17,8 @@
 #include "hazmap/sim/renderer.hpp"
 #include "hazmap/sim/simulate.hpp"
 #include "hazmap/sim/terrain.hpp"
+#include "sim_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace hazmap::sim {
 namespace {
@@ -207,15 +207,8 @@ TEST(Lighting, RegolithAlbedoHasTheContrastAndCorrelationAsked) {
 // noise. Over many renders the pixel std is sqrt(signal / electrons_per_dn + read^2)
 // (plus 1/12 DN^2 of rounding), the mean gain * exposure * L + offset.
 TEST(CameraResponse, NoiseStatisticsMatchTheKeys) {
-  TerrainOptions terrain_options;
-  terrain_options.scenario = "flat";
-  const Terrain terrain = make_terrain(terrain_options);
-  RenderOptions options;
-  options.texture_contrast = 0.0;
-  options.sun_shading = false;  // uniform radiance exposure * albedo = 100 DN
-  options.noise_sigma_dn = 2.0;
-  options.samples_per_axis = 1;
-  const Renderer renderer(terrain, options, 1);
+  const testing::UniformFlatScene scene(2.0, 1);  // radiance exposure * albedo = 100 DN
+  const Renderer& renderer = scene.renderer;
   CameraResponse response;
   response.gain = 1.2;
   response.exposure = 1.25;  // signal 150 DN
@@ -250,14 +243,8 @@ TEST(CameraResponse, NoiseStatisticsMatchTheKeys) {
 }
 
 TEST(CameraResponse, SaturationVignettingAndTwelveBits) {
-  TerrainOptions terrain_options;
-  terrain_options.scenario = "flat";
-  const Terrain terrain = make_terrain(terrain_options);
-  RenderOptions options;
-  options.texture_contrast = 0.0;
-  options.sun_shading = false;
-  options.noise_sigma_dn = 0.0;
-  const Renderer renderer(terrain, options, 1);
+  const testing::UniformFlatScene scene(0.0);
+  const Renderer& renderer = scene.renderer;
   const NadirView view(1.0);
   CameraResponse bright;
   bright.gain = 3.0;  // 300 DN: clipped to 255
@@ -283,17 +270,9 @@ TEST(CameraResponse, SaturationVignettingAndTwelveBits) {
 // ---------------------------------------------------------------------------------------
 // Through simulate_sequence
 
-std::string read_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 SimulationOptions low_sun_options() {
-  SimulationOptions options;
+  SimulationOptions options = testing::small_options();
   options.scenario = "craters";
-  options.scale = 0.1;
-  options.frames = 2;
-  options.terrain_size_m = 6.0;
   apply_lunar_polar_light(options.render);
   options.left_response.electrons_per_dn = 4.0;
   options.right_response.electrons_per_dn = 4.0;
@@ -303,19 +282,11 @@ SimulationOptions low_sun_options() {
   return options;
 }
 
-class TempDir : public ::testing::Test {
+class LowSunSimulation : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = std::filesystem::temp_directory_path() /
-            ("hazmap_lighting_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(root_);
-  }
-  void TearDown() override { std::filesystem::remove_all(root_); }
-  std::filesystem::path root_;
+  testing::TempDir tmp_;
+  const std::filesystem::path& root_ = tmp_.path();
 };
-
-using LowSunSimulation = TempDir;
 
 TEST_F(LowSunSimulation, SameSeedSameBytesOtherSeedOtherImages) {
   SimulationOptions options = low_sun_options();
@@ -325,11 +296,11 @@ TEST_F(LowSunSimulation, SameSeedSameBytesOtherSeedOtherImages) {
   simulate_sequence(options, root_ / "c");
   for (const char* file : {"left/000000.png", "right/000001.png", "simulation.yaml",
                            "calibration.yaml", "poses.txt"}) {
-    EXPECT_EQ(read_bytes(root_ / "a" / file), read_bytes(root_ / "b" / file)) << file;
+    EXPECT_EQ(testing::read_text(root_ / "a" / file), testing::read_text(root_ / "b" / file)) << file;
   }
-  EXPECT_NE(read_bytes(root_ / "a" / "left/000000.png"), read_bytes(root_ / "c" / "left/000000.png"));
+  EXPECT_NE(testing::read_text(root_ / "a" / "left/000000.png"), testing::read_text(root_ / "c" / "left/000000.png"));
   // Every setting is recorded.
-  const std::string yaml = read_bytes(root_ / "a" / "simulation.yaml");
+  const std::string yaml = testing::read_text(root_ / "a" / "simulation.yaml");
   for (const char* key : {"terrain_shadows: true", "ambient: 0,", "model: regolith",
                           "opposition_surge: 0.3", "row_offset_px: 0.7", "electrons_per_dn: 4",
                           "vignetting: 0.2", "gain: 1.1", "elevation_deg: 8"}) {
@@ -351,8 +322,8 @@ TEST_F(LowSunSimulation, RowOffsetIsTheOneAsked) {
   options.row_offset_px = 1.6;
   simulate_sequence(options, root_ / "offset");
   // Calibration is the nominal one: the offset is a residual error.
-  EXPECT_EQ(read_bytes(root_ / "plain" / "calibration.yaml"),
-            read_bytes(root_ / "offset" / "calibration.yaml"));
+  EXPECT_EQ(testing::read_text(root_ / "plain" / "calibration.yaml"),
+            testing::read_text(root_ / "offset" / "calibration.yaml"));
   auto ground = [&](const char* dir) {
     cv::Mat image = cv::imread((root_ / dir / "right/000000.png").string(), cv::IMREAD_GRAYSCALE);
     cv::Mat f;

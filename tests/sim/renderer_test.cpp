@@ -17,6 +17,7 @@
 
 #include "hazmap/sim/simulate.hpp"
 #include "hazmap/sim/terrain.hpp"
+#include "sim_fixtures.hpp"
 
 namespace hazmap::sim {
 namespace {
@@ -25,15 +26,8 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kSurfaceToleranceM = 1e-4;   // hit point vs height_m
 constexpr double kPixelTolerancePx = 1e-6;    // reprojection, rectified rows
 constexpr double kRelativeDisparityTolerance = 1e-6;
-constexpr double kTestScale = 0.1;            // 160 x 130 px: fast
-
-SimulationOptions small_options() {
-  SimulationOptions options;
-  options.scale = kTestScale;
-  options.frames = 2;
-  options.terrain_size_m = 6.0;
-  return options;
-}
+using testing::kTestScale;
+using testing::small_options;
 
 // ---------------------------------------------------------------------------------------
 // Camera geometry (SPEC 11)
@@ -203,18 +197,11 @@ TEST(Renderer, LambertShadingAndRockShadow) {
 }
 
 TEST(Renderer, ImageNoiseHasTheRequestedSigma) {
-  TerrainOptions terrain_options;
-  terrain_options.scenario = "flat";
-  const Terrain terrain = make_terrain(terrain_options);
-  RenderOptions options;
-  options.texture_contrast = 0.0;
-  options.sun_shading = false;
-  options.noise_sigma_dn = 2.0;
-  options.samples_per_axis = 1;
-  const Renderer renderer(terrain, options, 1);
+  const testing::UniformFlatScene scene(2.0, 1);
+  const RenderOptions& options = scene.options;
   const StereoRig rig = make_cadre_rig(0.2);
   const Pose3d T_W_C = rig.T_B_CL;  // body at the origin
-  const cv::Mat image = renderer.render(rig.camera, T_W_C, 42);
+  const cv::Mat image = scene.renderer.render(rig.camera, T_W_C, 42);
   ASSERT_EQ(image.type(), CV_8UC1);
   // Rows well below the horizon see flat ground of radiance exposure * albedo = 100 DN.
   cv::Scalar mean, stddev;

@@ -21,6 +21,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "sim_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace hazmap::sim {
@@ -28,7 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kTestScale = 0.1;  // 160 x 130 px: fast
+using testing::kTestScale;
+using testing::small_options;
 constexpr double kWrittenM = 1e-11;  // values rounded to 12 significant digits
 
 // Relative path -> content of every regular file below `root`.
@@ -40,14 +42,6 @@ std::map<std::string, std::string> read_tree(const fs::path& root) {
     }
   }
   return files;
-}
-
-SimulationOptions small_options() {
-  SimulationOptions options;
-  options.scale = kTestScale;
-  options.frames = 2;
-  options.terrain_size_m = 6.0;
-  return options;
 }
 
 // ---------------------------------------------------------------------------------------

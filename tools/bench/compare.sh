@@ -57,7 +57,8 @@ mkdir -p "$CACHE/bin" "$CACHE/clouds"
 
 SHA=$(git -C "$ROOT" rev-parse --verify --quiet "$REV^{commit}") ||
   { echo "compare.sh: '$REV' is not a commit" >&2; exit 2; }
-DRIVER_HASH=$(cat "$DRIVER_DIR/insertion_compare.cpp" "$DRIVER_DIR/driver.cmake" | sha1sum | cut -c1-10)
+DRIVER_HASH=$(cat "$DRIVER_DIR/insertion_compare.cpp" "$DRIVER_DIR/driver.cmake" \
+  "$ROOT/tools/bench/bench_layers.hpp" | sha1sum | cut -c1-10)
 
 CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release)
 if command -v ccache >/dev/null && [[ -z ${CMAKE_CXX_COMPILER_LAUNCHER:-} ]]; then

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_layers.hpp"
 #include "bench_points.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/map/map_points.hpp"
@@ -33,17 +34,11 @@ const MapPoints& frame_points(bool far, bool trace = false) {
   return p;
 }
 
-MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers,
+MapConfig make_map(const std::vector<bench::LayerSpec>& layers,
                    Insertion insertion = Insertion::all_layers) {
   MapConfig map;
   map.insertion = insertion;
-  for (const auto& [rule, r, n] : layers) {
-    LayerConfig l;
-    l.rule = rule;
-    l.resolution_m = r;
-    l.size = n;
-    map.layers.push_back(l);
-  }
+  bench::add_layers(map, layers);
   return map;
 }
 

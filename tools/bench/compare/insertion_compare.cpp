@@ -39,6 +39,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "../bench_layers.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/map/map_points.hpp"
 
@@ -141,16 +142,10 @@ void set_pooled(M& map) {
     map.insertion = T::finest_then_pool;
 }
 
-MapConfig make_map(const std::vector<std::tuple<RuleKind, double, int>>& layers, bool pooled = false) {
+MapConfig make_map(const std::vector<bench::LayerSpec>& layers, bool pooled = false) {
   MapConfig map;
   if (pooled) set_pooled(map);
-  for (const auto& [rule, r, n] : layers) {
-    LayerConfig l;
-    l.rule = rule;
-    l.resolution_m = r;
-    l.size = n;
-    map.layers.push_back(l);
-  }
+  bench::add_layers(map, layers);
   return map;
 }
 
