@@ -215,7 +215,7 @@ const std::vector<TopKey>& config_keys() {
        {in(0, 1e4, "[)", "must be in [0, 1e4) m (0: the largest layer's extent)")}},
       {"hazard.finer_proof", CONFIG_FIELD(hazard.finer_proof), "",
        "fused map: a hazard of one layer yields where a strictly finer layer with h_min <= critical_height proves the cell traversable (a coarse cell on a rock's rim is a hazard over its whole area; the finer layer measured this part of it and passed every test); false: any layer's hazard stands (SPEC 8.4)",
-       {}, false, "shipped flight/default configs: `true`"},
+       {}, false, "shipped `cadre_flight`, `cadre_full_res`: `true`"},
       {"hazard.incremental", CONFIG_FIELD(hazard.incremental), "",
        "SPEC 8.6: re-classify only cells whose result can have changed (identical maps; see \"Incremental hazard stage\", [docs/hazards.md](docs/hazards.md)); false: every cell every frame"},
       // pose uncertainty (SPEC 7)
