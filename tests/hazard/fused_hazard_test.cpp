@@ -133,8 +133,9 @@ TEST(Footprint, HazardWithinRadiusThenUnknownThenTraversableAndDistanceInMetres)
   fusion.footprint(fused, 0.05, footprint, distance);
   EXPECT_EQ(footprint.at(10, 15), kH);  // 5 cm away: inside the footprint
   EXPECT_EQ(footprint.at(14, 13), kH);  // (4, 3): 5 cm
-  EXPECT_EQ(footprint.at(10, 16), kT);  // 6 cm
-  EXPECT_EQ(footprint.at(14, 14), kT);  // 5.66 cm
+  EXPECT_EQ(footprint.at(10, 16), kT);  // 6 cm: beyond 5 cm + half a diagonal (0.71 cm)
+  EXPECT_EQ(footprint.at(14, 14), kH);  // 5.66 cm: the hazard cell's corner is 4.95 cm away
+  EXPECT_EQ(footprint.at(14, 15), kT);  // 6.40 cm
   EXPECT_EQ(footprint.at(30, 26), kU);  // 4 cm from the unknown cell
   EXPECT_EQ(footprint.at(2, 20), kU);   // the map's edge is 3 cm away: nothing known beyond
   EXPECT_EQ(footprint.at(5, 20), kT);   // the edge is 6 cm away
@@ -153,7 +154,7 @@ TEST(Footprint, EqualsBruteForceOnRandomMapsAndOnARegion) {
     HazardFusion fusion;
     DenseGrid footprint, distance;
     fusion.footprint(fused, radius_m, footprint, distance);
-    const double rc = radius_m / 0.01, radius2 = rc * rc * (1.0 + 1e-9);
+    const double rc = radius_m / 0.01 + std::sqrt(0.5), radius2 = rc * rc * (1.0 + 1e-9);
     for (int row = 0; row < fused.rows; ++row)
       for (int col = 0; col < fused.cols; ++col) {
         bool hazard = false, unknown = false;
@@ -179,6 +180,38 @@ TEST(Footprint, EqualsBruteForceOnRandomMapsAndOnARegion) {
       for (int col = 0; col < fused.cols; ++col)
         ASSERT_EQ(part.at(row, col), region.contains(row, col) ? footprint.at(row, col) : -1.0f)
             << radius_m << " at " << row << "," << col;
+  }
+}
+
+TEST(Footprint, EveryPointWithinTheRadiusLiesInACellTheFootprintCounted) {
+  // The footprint's promise to a planner: a traversable footprint cell has no hazard or
+  // unknown cell anywhere within the radius, whatever the fused map's resolution. Random
+  // 4 cm maps; points sampled in every traversable cell's disc must fall in traversable
+  // fused cells.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double radius_m : {0.05, 0.15, 0.17}) {
+    DenseGrid fused;
+    fused.reset(40, 40, 0.04, 0, 0, kT);
+    std::discrete_distribution<int> kind({0.97, 0.015, 0.015});
+    for (float& v : fused.values) v = std::array<float, 3>{kT, kU, kH}[kind(rng)];
+    HazardFusion fusion;
+    DenseGrid footprint, distance;
+    fusion.footprint(fused, radius_m, footprint, distance);
+    int traversable = 0;
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col) {
+        if (footprint.at(row, col) != kT) continue;
+        ++traversable;
+        for (int k = 0; k < 400; ++k) {
+          const double dx = u(rng) * radius_m, dy = u(rng) * radius_m;
+          if (std::hypot(dx, dy) > radius_m) continue;
+          int r = 0, c = 0;
+          ASSERT_TRUE(fused.cell_at(fused.x_of_col(col) + dx, fused.y_of_row(row) + dy, &r, &c));
+          ASSERT_EQ(fused.at(r, c), kT) << radius_m << " at " << row << "," << col;
+        }
+      }
+    EXPECT_GT(traversable, 50) << radius_m;  // the test saw traversable cells
   }
 }
 

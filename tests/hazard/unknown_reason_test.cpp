@@ -94,15 +94,27 @@ TEST(UnknownReason, ExplainGivesBitsExactlyAtUnknownCellsAndChangesNoClass) {
 TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
   const Config config = one_layer(RuleKind::kalman, 0.01);
   const double R = 0.15;  // the wheel ring's radius (default wheelbase 0.3 m)
-  // A 5 cm hole at (0.3 + R, 0.1): the ring sample 0 of cell (0.305, 0.105) falls in it.
-  const LayerGrids g = map_flat(config, 0.003, 0.0005, [&](double x, double y) {
-    return std::abs(x - 0.305 - R) < 0.025 && std::abs(y - 0.105) < 0.025;
-  });
+  // 5 cm holes at ring samples 0-3 of cell (0.305, 0.105): samples 4-7 hold no opposite
+  // pair, so the partial ring cannot prove the cell (wheel_ring.hpp).
+  const auto in_hole = [&](double x, double y, int samples) {
+    for (int k = 0; k < samples; ++k)
+      if (std::abs(x - 0.305 - R * std::cos(k * M_PI / 4)) < 0.025 &&
+          std::abs(y - 0.105 - R * std::sin(k * M_PI / 4)) < 0.025)
+        return true;
+    return false;
+  };
+  const LayerGrids g = map_flat(config, 0.003, 0.0005, [&](double x, double y) { return in_hole(x, y, 4); });
   const Explained e = explain(config, g);
   EXPECT_EQ(bits_at(e.reasons, 0.305, 0.105), unsigned(kReasonRingIncomplete));
   EXPECT_EQ(bits_at(e.hazard, 0.305, 0.105), unsigned(HazardClass::unknown));
-  // Inside the hole: no height.
+  // Inside a hole: no height.
   EXPECT_TRUE(bits_at(e.reasons, 0.305 + R, 0.105) & kReasonNoHeight);
+  // One hole only (sample 0): seven samples, three opposite pairs: proven, no bits.
+  const Explained one = explain(config, map_flat(config, 0.003, 0.0005, [&](double x, double y) {
+                                  return in_hole(x, y, 1);
+                                }));
+  EXPECT_EQ(bits_at(one.hazard, 0.305, 0.105), unsigned(HazardClass::traversable));
+  EXPECT_EQ(bits_at(one.reasons, 0.305, 0.105), 0u);
   // Ground seen in one 1 cm column of three: every observed cell's kernel is a third
   // full, below min_kernel_fill (0.5): kernel incomplete, and no margin of the kernel's.
   const LayerGrids striped = map_flat(config, 0.003, 0.0005, [](double x, double) {

@@ -9,8 +9,9 @@
 // that could still hide there.
 //
 // Footprint (SPEC 8.5), the configuration space of the rover's centre: hazard if a fused
-// hazard cell lies within the footprint radius, else unknown if an unknown cell (or the
-// map's edge) does, else traversable. Hazard distance: metres from each cell centre to
+// hazard cell overlaps the disc of the footprint radius, else unknown if an unknown cell
+// (or the map's edge) does, else traversable. A cell counts when its centre lies within
+// the radius plus half a cell's diagonal (every cell the disc touches, and a few more). Hazard distance: metres from each cell centre to
 // the nearest fused hazard cell centre, capped at half the map's side.
 
 #include <vector>

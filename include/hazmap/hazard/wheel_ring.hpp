@@ -12,6 +12,7 @@
 // theirs, proves as the full ring's does when the centre is not extrapolated: at least
 // one opposite pair (the centre lies on the samples' hull, on that diameter) and a third
 // sample off it. A half ring qualifies. With less, the ring gives hazard evidence only.
+// A partial ring's plane only proves; its hazards come from that evidence (wheel_ring.cpp).
 
 #include "hazmap/hazard/evidence.hpp"
 
