@@ -227,9 +227,10 @@ void expect_same_grids(const LayerGrids& a, const LayerGrids& b, const std::stri
     EXPECT_EQ(ga.center_y_m, gb.center_y_m) << what << ", grid " << k;
     ASSERT_EQ(ga.values.size(), gb.values.size()) << what << ", grid " << k;
     // memcmp of an empty grid's null data is undefined (UBSan): compare only a payload.
-    if (!ga.values.empty())
+    if (!ga.values.empty()) {
       EXPECT_EQ(0, std::memcmp(ga.values.data(), gb.values.data(), ga.values.size() * sizeof(float)))
           << what << ", grid " << k;
+    }
   }
 }
 
@@ -291,7 +292,9 @@ TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
         if (frame == 4) {
           EXPECT_GT(expect_identical_cells(mixed.layer(i), alone[i]->layer(0), what), 20) << what;
           // The gates bit somewhere: otherwise this would not test them.
-          if (i == 1) EXPECT_GT(mixed.gate_counts(i).std_gate, 0u) << what;
+          if (i == 1) {
+            EXPECT_GT(mixed.gate_counts(i).std_gate, 0u) << what;
+          }
         }
         if (::testing::Test::HasFailure()) return;
       }
