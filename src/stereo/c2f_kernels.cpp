@@ -391,14 +391,7 @@ HAZMAP_AVX2_KERNEL void winners_narrow_avx2(const WinnerRow& r) {
     const int best = _mm_extract_epi16(m, 0);
     const int kb = _mm_extract_epi16(m, 1);
     if (x - d0 < 0) continue;
-    const int kmax = std::min(n - 1, x - d0);
-    std::uint16_t* rs = r.right_s + (x - d0);
-    std::int16_t* rd = r.right_d + (x - d0);
-    for (int k = 0; k <= kmax; ++k) {
-      const bool lower = s[k] < rs[-k];
-      rs[-k] = lower ? s[k] : rs[-k];
-      rd[-k] = lower ? static_cast<std::int16_t>(d0 + k) : rd[-k];
-    }
+    offer_to_right(r, s, x, d0, n);
     if (x - d0 - kb < 0) continue;
     if ((kb == 0 && d0 > r.lo) || (kb == n - 1 && d0 + n < r.hi)) continue;
     float d = static_cast<float>(d0 + kb);

@@ -5,6 +5,7 @@
 // and the narrow levels' row and column passes (windows of <= kNarrowMax disparities in
 // one 8-lane vector, costs computed in the first row pass).
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 
@@ -104,6 +105,21 @@ struct WinnerRow {
   std::int16_t* winner = nullptr;    ///< out, whole-pixel winner
   std::uint8_t* conf = nullptr;      ///< out (full level only)
 };
+/// Offers left pixel x's sums s[0..n) (disparities d0 + k) to the right pixels x - d0 - k
+/// they match: each right pixel keeps its first lowest sum, for the left-right check.
+/// Shared by winners_row (scalar) and winners_narrow_avx2.
+inline void offer_to_right(const WinnerRow& r, const std::uint16_t* s, int x, int d0, int n) {
+  if (x - d0 < 0) return;  // every right pixel left of the image
+  const int kmax = std::min(n - 1, x - d0);
+  std::uint16_t* rs = r.right_s + (x - d0);
+  std::int16_t* rd = r.right_d + (x - d0);
+  for (int k = 0; k <= kmax; ++k) {
+    const bool lower = s[k] < rs[-k];
+    rs[-k] = lower ? s[k] : rs[-k];
+    rd[-k] = lower ? static_cast<std::int16_t>(d0 + k) : rd[-k];
+  }
+}
+
 /// The decisions of a narrow level's row (winners_row in the matcher is the reference;
 /// sums of kNarrow lanes): the first lowest sum by one minpos.
 void winners_narrow_avx2(const WinnerRow& r);

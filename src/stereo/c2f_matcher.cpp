@@ -180,14 +180,7 @@ HAZMAP_KERNEL void winners_row(const WinnerRow& r) {
     while (s[kb] != best) ++kb;
     // Right pixel x - d0 - k (>= 0) keeps its first lowest sum.
     if (x - d0 < 0) continue;  // every right pixel left of the image
-    const int kmax = std::min(n - 1, x - d0);
-    std::uint16_t* rs = r.right_s + (x - d0);
-    std::int16_t* rd = r.right_d + (x - d0);
-    for (int k = 0; k <= kmax; ++k) {
-      const bool lower = s[k] < rs[-k];
-      rs[-k] = lower ? s[k] : rs[-k];
-      rd[-k] = lower ? static_cast<std::int16_t>(d0 + k) : rd[-k];
-    }
+    offer_to_right(r, s, x, d0, n);
     if (x - d0 - kb < 0) continue;
     if (r.full) {
       std::uint16_t low = kNoSum;
