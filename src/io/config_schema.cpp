@@ -347,6 +347,9 @@ std::string config_reference_markdown() {
     LayerConfig layer;
     for (const LayerKey& l : layer_keys()) table += row("map.layers[]." + l.name, l, layer);
   }
+  // The help texts link docs/ pages from the top folder; the table lives in docs/.
+  for (std::size_t at = table.find("](docs/"); at != std::string::npos; at = table.find("](docs/", at))
+    table.erase(at + 2, 5);
   return table;
 }
 

@@ -268,18 +268,18 @@ TEST(ConfigSchema, CrossKeyRulesRejectAtTheirBoundsAndAcceptInside) {
   EXPECT_EQ(config_error({"sensor.pointing_error_px=1e-9", "rules.ccm.weighting=det"}), "");
 }
 
-// --- the README's reference table is the generated one ---
+// --- docs/config_reference.md's table is the generated one ---
 
-TEST(ConfigSchema, ReadmeReferenceTableIsGenerated) {
-  const std::filesystem::path readme = testing::source_dir() / "README.md";
+TEST(ConfigSchema, ReferenceTableIsGenerated) {
+  const std::filesystem::path readme = testing::source_dir() / "docs" / "config_reference.md";
   std::ifstream in(readme);
   std::stringstream buffer;
   buffer << in.rdbuf();
   std::string text = buffer.str();
   const std::size_t begin = text.find(kConfigReferenceBegin);
   const std::size_t end = text.find(kConfigReferenceEnd);
-  ASSERT_NE(begin, std::string::npos) << "README.md: no " << kConfigReferenceBegin;
-  ASSERT_NE(end, std::string::npos) << "README.md: no " << kConfigReferenceEnd;
+  ASSERT_NE(begin, std::string::npos) << readme << ": no " << kConfigReferenceBegin;
+  ASSERT_NE(end, std::string::npos) << readme << ": no " << kConfigReferenceEnd;
   const std::size_t table_begin = begin + std::string(kConfigReferenceBegin).size() + 1;
   const std::string generated = config_reference_markdown();
   if (std::getenv("HAZMAP_UPDATE_CONFIG_REFERENCE") != nullptr) {
@@ -296,10 +296,10 @@ TEST(ConfigSchema, ReadmeReferenceTableIsGenerated) {
     ++line;
     if (!more_have && !more_want) break;
     ASSERT_EQ(have_line, want_line)
-        << "README.md's configuration reference differs from the key table at row " << line << " ("
+        << "docs/config_reference.md differs from the key table at row " << line << " ("
         << want_line.substr(0, want_line.find(" |", 2)) << "); regenerate it: "
         << "HAZMAP_UPDATE_CONFIG_REFERENCE=1 build/tests/hazmap_tests "
-           "--gtest_filter=ConfigSchema.ReadmeReferenceTableIsGenerated";
+           "--gtest_filter=ConfigSchema.ReferenceTableIsGenerated";
   }
 }
 

@@ -208,7 +208,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The README's real-data figures: config/euroc_indoor.yaml on the shared EuRoC frames.
+// docs/real_data.md's figures: config/euroc_indoor.yaml on the shared EuRoC frames.
 TEST(PreflightEuroc, TheReadmeFiguresOfTheRealFloor) {
   const fs::path dir = testing::source_dir() / "../shared/data/euroc_v1_01_micro";
   if (!fs::is_directory(dir)) GTEST_SKIP() << "no shared EuRoC data";

@@ -86,8 +86,8 @@ const std::vector<LayerKey>& layer_keys();
 std::vector<std::string> key_choices(const TopKey& key);
 std::vector<std::string> key_choices(const LayerKey& key);
 
-/// The README's "Configuration reference" table (markdown, one row per key), generated
-/// from the tables above; README.md holds it between the markers below.
+/// The configuration reference table (markdown, one row per key), generated from the
+/// tables above; docs/config_reference.md holds it between the markers below.
 std::string config_reference_markdown();
 inline constexpr const char* kConfigReferenceBegin = "<!-- config-reference:begin -->";
 inline constexpr const char* kConfigReferenceEnd = "<!-- config-reference:end -->";
