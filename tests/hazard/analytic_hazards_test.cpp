@@ -10,6 +10,7 @@
 
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
+#include "hazmap/hazard/plane_classifier.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 
 namespace hazmap {

@@ -1,6 +1,6 @@
 #include "hazmap/hazard/roughness_filter.hpp"
 
-#include "hazmap/hazard/hazard_classifier.hpp"
+#include "hazmap/hazard/kernel_classifier.hpp"
 
 #include <cmath>
 #include <random>

@@ -1,13 +1,16 @@
 #pragma once
 // One hazard classifier per layer, chosen once from the layer's rule family (SPEC 8):
-// piecewise-constant layers (Bananas, Kalman, OMG) by their roughness kernel, CCM layers
-// by their plane tests; both add the step-above-the-wheel-ring test on layers finer than
-// the wheelbase. Every test follows Evidence's rule (evidence.hpp).
+// piecewise-constant layers (Bananas, Kalman, OMG) by their roughness kernel
+// (kernel_classifier.hpp), CCM layers by their planes (plane_classifier.hpp); both add
+// the wheel ring's tests on layers finer than the wheelbase. A family runs a list of
+// hazard tests on each cell (hazard_test.hpp); every test follows Evidence's rule
+// (evidence.hpp).
 
+#include <cmath>
+#include <limits>
 #include <memory>
 
 #include "hazmap/hazard/hazard_params.hpp"
-#include "hazmap/hazard/roughness_filter.hpp"
 #include "hazmap/hazard/wheel_ring.hpp"
 #include "hazmap/map/layer.hpp"
 
@@ -70,58 +73,31 @@ class HazardClassifier {
   DenseGrid* reasons_ = nullptr;  ///< set during explain() only
 };
 
-/// SPEC 8.1 + 8.3: roughness kernel and step above the ring, on cell heights.
-class PiecewiseConstantClassifier final : public HazardClassifier {
- public:
-  explicit PiecewiseConstantClassifier(const LayerHazardParams& params);
-  using HazardClassifier::classify;
-  void classify(const LayerGrids& grids, const GridRect& region, DenseGrid& hazard,
-                HazardDiagnostics& diag) override;
-  int reach_cells() const override;
-
- private:
-  void reset_diagnostics(const DenseGrid& height, HazardDiagnostics& diag) const override;
-
-  /// The observed height nearest the ring sample in cell (row, col) (itself or one of its
-  /// 8 neighbours, with the lever as extra variance); unknown if none.
-  RingSample ring_sample(const LayerGrids& g, int row, int col, double tan_slope) const;
-
-  RoughnessFilter filter_;
-  int kernel_cells_ = 0;
-  std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
-};
-
-/// SPEC 8.2 + 8.3: roughness over noise, rock face, vehicle slope, step above the ring, on
-/// the cells' planes.
-class PlaneClassifier final : public HazardClassifier {
- public:
-  using HazardClassifier::HazardClassifier;
-  using HazardClassifier::classify;
-  void classify(const LayerGrids& grids, const GridRect& region, DenseGrid& hazard,
-                HazardDiagnostics& diag) override;
-  int reach_cells() const override;
-
-  /// Sub-cell height of the plane surface at W point (x, y) and its variance (exact): the
-  /// holding cell's plane, or if that cell is not evaluable the plane of its nearest
-  /// evaluable neighbour extrapolated to the point; failing both, on a known cell its
-  /// mu_z with the published and sensor variance (known, not exact: evidence only);
-  /// unknown outside the grid or on an empty cell.
-  RingSample surface_at(const LayerGrids& grids, double x_m, double y_m) const;
-
- private:
-  /// A cell's noise statistics: its roughness rho, the sensor part of it, the residual
-  /// variance about the plane and the number of points it rests on.
-  struct CellNoise {
-    double rho, sensor, res_var, n_eff;
-  };
-  CellNoise cell_noise(const LayerGrids& g, int row, int col) const;
-  /// The evaluable cell (row, col)'s plane at (x, y) with its prediction variance.
-  RingSample plane_sample(const LayerGrids& g, int row, int col, double x_m, double y_m) const;
-  /// The wheel ring's samples around cell (row, col)'s centre (surface_at each).
-  void ring_around(const LayerGrids& g, int row, int col,
-                   RingSample (&s)[WheelRing::kSamples]) const;
-};
-
+/// The classifier of the layer's family, with the family's shipped list of tests.
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);
+
+namespace detail {
+
+/// The cell of the 3 x 3 block around (row, col), inside the grid, that `accept`s and
+/// lies nearest by `distance2(r, c)` (the first of equals in row-major order); false if
+/// none. Both families look there when a ring sample's own cell cannot serve.
+template <class Accept, class Distance2>
+bool nearest_in_3x3(const DenseGrid& grid, int row, int col, Accept accept, Distance2 distance2,
+                    int* best_row, int* best_col) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int r = row - 1; r <= row + 1; ++r)
+    for (int c = col - 1; c <= col + 1; ++c) {
+      if (r < 0 || c < 0 || r >= grid.rows || c >= grid.cols || !accept(r, c)) continue;
+      const double d2 = distance2(r, c);
+      if (d2 < best) {
+        best = d2;
+        *best_row = r;
+        *best_col = c;
+      }
+    }
+  return std::isfinite(best);
+}
+
+}  // namespace detail
 
 }  // namespace hazmap
