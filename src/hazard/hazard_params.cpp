@@ -42,6 +42,7 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfi
   p.rho_max_m2 = layer.hazard.rho_max_m2 > 0 ? layer.hazard.rho_max_m2 : p.h_min_m * p.h_min_m / 16.0;
   p.tan_face = p.h_min_m / layer.resolution_m;
   p.min_axis_coverage = hz.min_axis_coverage;
+  p.partial_ring_proof = hz.partial_ring_proof;
   p.min_points = config.rules.ccm.min_points;
   p.max_effective_count = config.rules.ccm.weighting == CcmWeighting::constant ? config.rules.ccm.max_weight : 1e300;
   if (p.family == HazardFamily::piecewise_constant) {

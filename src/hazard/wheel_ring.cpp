@@ -17,7 +17,8 @@ constexpr double kProofOnly = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
-WheelRing::WheelRing(double radius_m, double k_sigma) : radius_(radius_m), k_sigma_(k_sigma) {
+WheelRing::WheelRing(double radius_m, double k_sigma, bool partial_proof)
+    : radius_(radius_m), k_sigma_(k_sigma), partial_proof_(partial_proof) {
   for (int k = 0; k < kSamples; ++k) {
     dx_[k] = radius_m * std::cos(k * M_PI / 4.0);
     dy_[k] = radius_m * std::sin(k * M_PI / 4.0);
@@ -64,7 +65,7 @@ void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope
   for (int k = 0; k < kSamples; ++k) {
     if (!s[k].exact) {
       PartialPlane p;
-      if (fit_partial(s, &p))  // |g| has a standard deviation of at most sqrt(trace)
+      if (partial_proof_ && fit_partial(s, &p))  // |g| has a standard deviation of at most sqrt(trace)
         ev.test(std::hypot(p.gx, p.gy), std::sqrt(p.var_gradient), tan_max_slope, true, kProofOnly);
       else
         ev.missing();
@@ -104,7 +105,7 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
     return;
   }
   PartialPlane p;
-  if (fit_partial(s, &p))
+  if (partial_proof_ && fit_partial(s, &p))
     ev.test(h_m - p.ground, std::sqrt(var_h_m2 + p.var_ground), h_min_m, true, kProofOnly);
   else
     ev.missing();

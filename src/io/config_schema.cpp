@@ -216,6 +216,8 @@ const std::vector<TopKey>& config_keys() {
       {"hazard.finer_proof", CONFIG_FIELD(hazard.finer_proof), "",
        "fused map: a hazard of one layer yields where a strictly finer layer with h_min <= critical_height proves the cell traversable (a coarse cell on a rock's rim is a hazard over its whole area; the finer layer measured this part of it and passed every test); false: any layer's hazard stands (SPEC 8.4)",
        {}, false, "shipped `cadre_flight`, `cadre_full_res`: `true`"},
+      {"hazard.partial_ring_proof", CONFIG_FIELD(hazard.partial_ring_proof), "",
+       "a wheel ring cut by the edge of what was seen proves from its exact samples' plane (an opposite pair and a third sample; [docs/hazards.md](docs/hazards.md)); false: only a full ring proves. Off: under low sun the unseen part of a ring is often the rock that hid it, and such rings proved rock-rim cells whose heights were wrong"},
       {"hazard.incremental", CONFIG_FIELD(hazard.incremental), "",
        "SPEC 8.6: re-classify only cells whose result can have changed (identical maps; see \"Incremental hazard stage\", [docs/hazards.md](docs/hazards.md)); false: every cell every frame"},
       // pose uncertainty (SPEC 7)

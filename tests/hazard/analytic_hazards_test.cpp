@@ -389,9 +389,10 @@ TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndAHalfR
   // Flat ground on the 1 cm Kalman layer with unobserved 1 cm cells exactly where the
   // wheel ring of the cell at (0.305, 0.105) samples: each sample then comes from an
   // observed neighbour and the cell is proven traversable. 3 x 3 holes lose samples: with
-  // samples 0-2 lost, 3-7 (a pair and more) still prove the cell (issue 34); with 0-3
-  // lost, 4-7 hold no opposite pair: unknown.
-  const Config config = analytic_config({{RuleKind::kalman, 0.01}});
+  // samples 0-2 lost, 3-7 (a pair and more) still prove the cell with
+  // hazard.partial_ring_proof (issue 34); with 0-3 lost, 4-7 hold no opposite pair:
+  // unknown. Without partial-ring proof (the default) any lost sample leaves it unknown.
+  Config config = analytic_config({{RuleKind::kalman, 0.01}});
   const double xc = 0.305, yc = 0.105, R = 0.15;
   const auto holes = [&](double half_width, int wide) {
     return [=](double x, double y) {
@@ -407,16 +408,21 @@ TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndAHalfR
   struct Case {
     double half_width;
     int wide;
-    HazardClass want;
+    HazardClass want;           ///< with partial-ring proof
+    HazardClass want_full_only;  ///< without
   };
-  for (const Case& c : {Case{0.005, 1, HazardClass::traversable}, Case{0.015, 1, HazardClass::traversable},
-                        Case{0.015, 3, HazardClass::traversable}, Case{0.015, 4, HazardClass::unknown}}) {
+  constexpr HazardClass T = HazardClass::traversable, U = HazardClass::unknown;
+  for (const Case& c : {Case{0.005, 1, T, T}, Case{0.015, 1, T, U}, Case{0.015, 3, T, U},
+                        Case{0.015, 4, U, U}})
+  for (const bool partial : {true, false}) {
+    config.hazard.partial_ring_proof = partial;
     const auto views = map_surface(config, [](double, double) { return 0.0; }, 0.6, 0.002, 0.0005,
                                    7, Visible(holes(c.half_width, c.wide)));
     int row = 0, col = 0;
     ASSERT_TRUE(views[0].hazard.cell_at(xc, yc, &row, &col));
-    EXPECT_EQ(views[0].hazard.at(row, col), float(c.want))
-        << "hole half-width " << c.half_width << " around samples < " << c.wide;
+    EXPECT_EQ(views[0].hazard.at(row, col), float(partial ? c.want : c.want_full_only))
+        << "hole half-width " << c.half_width << " around samples < " << c.wide
+        << (partial ? ", partial-ring proof" : ", full rings only");
   }
 }
 

@@ -92,7 +92,8 @@ TEST(UnknownReason, ExplainGivesBitsExactlyAtUnknownCellsAndChangesNoClass) {
 }
 
 TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
-  const Config config = one_layer(RuleKind::kalman, 0.01);
+  Config config = one_layer(RuleKind::kalman, 0.01);
+  config.hazard.partial_ring_proof = true;
   const double R = 0.15;  // the wheel ring's radius (default wheelbase 0.3 m)
   // 5 cm holes at ring samples 0-3 of cell (0.305, 0.105): samples 4-7 hold no opposite
   // pair, so the partial ring cannot prove the cell (wheel_ring.hpp).
@@ -115,6 +116,14 @@ TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
                                 }));
   EXPECT_EQ(bits_at(one.hazard, 0.305, 0.105), unsigned(HazardClass::traversable));
   EXPECT_EQ(bits_at(one.reasons, 0.305, 0.105), 0u);
+  // Without partial-ring proof (the default) the same ring is incomplete.
+  Config full_rings = config;
+  full_rings.hazard.partial_ring_proof = false;
+  const Explained off = explain(full_rings, map_flat(full_rings, 0.003, 0.0005, [&](double x, double y) {
+                                  return in_hole(x, y, 1);
+                                }));
+  EXPECT_EQ(bits_at(off.hazard, 0.305, 0.105), unsigned(HazardClass::unknown));
+  EXPECT_EQ(bits_at(off.reasons, 0.305, 0.105), unsigned(kReasonRingIncomplete));
   // Ground seen in one 1 cm column of three: every observed cell's kernel is a third
   // full, below min_kernel_fill (0.5): kernel incomplete, and no margin of the kernel's.
   const LayerGrids striped = map_flat(config, 0.003, 0.0005, [](double x, double) {

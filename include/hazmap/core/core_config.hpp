@@ -107,6 +107,11 @@ struct HazardConfig {
   /// Fused map (issue 34): a finer layer's proof of traversability outweighs a coarser
   /// layer's hazard on the fine cell (HazardFusion::set_finer_proof); false: SPEC 8.4.
   bool finer_proof = false;
+  /// Wheel ring (issue 34): a ring cut by the edge of what was seen proves from its exact
+  /// samples' plane (WheelRing). Off by default: under low sun the missing part of a ring
+  /// is often the rock that hid it, and rim cells with ground-level heights were proven
+  /// (docs/hazards.md).
+  bool partial_ring_proof = false;
   /// SPEC 8.6: re-classify only the cells whose result can have changed (equal to a full
   /// pass; false: every cell of every layer every frame, for comparison).
   bool incremental = true;

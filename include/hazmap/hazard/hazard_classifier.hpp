@@ -30,7 +30,7 @@ struct HazardDiagnostics {
 class HazardClassifier {
  public:
   explicit HazardClassifier(const LayerHazardParams& params)
-      : params_(params), ring_(params.wheelbase_m / 2.0, params.k_sigma) {}
+      : params_(params), ring_(params.wheelbase_m / 2.0, params.k_sigma, params.partial_ring_proof) {}
   virtual ~HazardClassifier() = default;
 
   /// Classifies every cell of `grids` (a layer's export) into `hazard` (HazardClass),

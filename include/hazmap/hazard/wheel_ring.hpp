@@ -31,7 +31,9 @@ class WheelRing {
   /// `k_sigma`: the classifier's k (Evidence), for which step_test's Bonferroni k of the
   /// lowest of n samples is tabulated once: computing it (a bisection over erfc) per
   /// partly observed cell cost most of a 1 cm layer's classification.
-  WheelRing(double radius_m, double k_sigma);
+  /// `partial_proof`: a partial ring that qualifies proves (hazard.partial_ring_proof);
+  /// false: it gives hazard evidence only, and the cell cannot be proven.
+  WheelRing(double radius_m, double k_sigma, bool partial_proof = true);
 
   double radius() const { return radius_; }
   double dx(int k) const { return dx_[k]; }
@@ -71,6 +73,7 @@ class WheelRing {
   double radius_;
   double dx_[kSamples], dy_[kSamples];
   double k_sigma_;
+  bool partial_proof_;
   double lowest_k_[kSamples + 1];  ///< kernel_k_sigma(k_sigma_, n)
 };
 
