@@ -13,8 +13,6 @@
 
 namespace hazmap {
 
-CcmWeighting ccm_weighting(const CcmConfig& ccm) { return ccm.weighting; }
-
 double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
   const double ratio = layer.max_std_ratio < 0 ? rules.ccm.max_std_ratio : layer.max_std_ratio;
   return ratio > 0 ? ratio * layer.resolution_m / std::sqrt(12.0) : 0.0;
@@ -32,11 +30,11 @@ KalmanRule::Config rule_config(RuleTag<KalmanRule>, const RulesConfig& rules, co
   return rules.kalman;
 }
 OmgRule::Config rule_config(RuleTag<OmgRule>, const RulesConfig& rules, const HazardConfig&) {
-  return OmgRule::Config{rules.omg.max_weight, rules.omg.decay, rules.omg.gate_sigma};
+  return rules.omg;
 }
 CcmRule::Config rule_config(RuleTag<CcmRule>, const RulesConfig& rules, const HazardConfig& hazard) {
-  CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
-                      rules.ccm.full_plane};
+  CcmRule::Config cfg;
+  static_cast<CcmConfig&>(cfg) = rules.ccm;
   cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
   return cfg;
 }

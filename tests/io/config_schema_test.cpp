@@ -17,6 +17,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 #include "test_support.hpp"
 
 namespace hazmap {

@@ -10,6 +10,7 @@
 
 #include "hazmap/map/grid_math.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {

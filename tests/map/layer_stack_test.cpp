@@ -17,6 +17,7 @@
 #include "hazmap/io/config.hpp"  // validate()
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/ccm.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {

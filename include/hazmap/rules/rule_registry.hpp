@@ -136,6 +136,9 @@ inline const RuleInfo& rule_info(RuleKind kind) {
   return kRuleTable[i];
 }
 
+/// The name of `kind` (Rule::kName): in the YAML and the outputs.
+inline const char* rule_name(RuleKind kind) { return rule_info(kind).name; }
+
 /// The row named `name` (Rule::kName), nullptr for any other name.
 inline const RuleInfo* find_rule(std::string_view name) {
   for (const RuleInfo& r : kRuleTable)
