@@ -47,6 +47,11 @@ struct CcmRule {
     double max_slope_rad = 20.0 * M_PI / 180.0;
   };
 
+  /// The layer's Config from the hazard section (rule_registry.hpp: rule_config).
+  static void derive_config(Config& cfg, const HazardConfig& hazard) {
+    cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
+  }
+
   struct Cell {
     float w = 0.0f;
     float mx_m = 0.0f, my_m = 0.0f;  ///< mean x, y relative to the cell centre

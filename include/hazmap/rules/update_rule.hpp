@@ -76,6 +76,10 @@
 //     finest_then_pool may pool together (SPEC 5); without it a rule pools only with
 //     itself (its kName). OMG declares "kalman": both pool as a weighted height.
 //
+//   static void derive_config(Config&, const HazardConfig&)   values of its Config the
+//     rule derives from the hazard section (CCM: max_slope_rad), after its settings are
+//     copied (rules/rule_registry.hpp: rule_config).
+//
 // Members a rule may have that the layer does not use (update, mean, ...) are not checked.
 
 #include <cstddef>
