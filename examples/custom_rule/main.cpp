@@ -23,7 +23,7 @@ int main() {
   PointCloud cloud;
   for (double y = -0.7; y < 0.7; y += 0.05)
     for (double x = -0.7; x < 0.7; x += 0.05)
-      for (const float z : {0.3f, 0.2f}) {  // the higher point first: the rule keeps the lowest
+      for (const float z : {0.2f, 0.3f}) {  // the lower first: a last-point rule keeps 0.3
         Measurement m{};
         m.p_W = Eigen::Vector3f(float(x + 0.01), float(y + 0.02), z);
         m.cov_xx = m.cov_yy = 1e-6f;
