@@ -12,11 +12,8 @@
 #include "bindings.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
-#include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/mapper.hpp"
 #include "hazmap/io/config.hpp"
-#include "hazmap/map/layer_stack.hpp"
-#include "hazmap/map/map_points.hpp"
-#include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 
@@ -78,36 +75,28 @@ class PyPipeline : public MapSource {
   Pipeline pipeline_;
 };
 
-/// The map half of Pipeline::process for points that come from elsewhere: roll, insert,
-/// hazards, in the pipeline's order and with its parameters.
+/// The map half of Pipeline::process for points that come from elsewhere: the core's
+/// Mapper (hazard/mapper.hpp), the object Pipeline itself uses after stereo.
 class PyLayerStack : public MapSource {
  public:
   explicit PyLayerStack(const Config& config)
-      : config_(config),
-        map_(config.map, config.rules, config.hazard, config.pose_uncertainty.enabled),
-        weighting_(ccm_weighting(config.rules.ccm)),
-        hazards_(resolve_hazard_params(config), config.hazard.incremental) {}
+      : config_(config), mapper_(config, config.pose_uncertainty.enabled) {}
   const Config& config() const override { return config_; }
-  const HazardStage& hazards() const override { return hazards_; }
-  const LayerStack& map() const { return map_; }
+  const HazardStage& hazards() const override { return mapper_.hazards(); }
+  const Mapper& mapper() const { return mapper_; }
 
   std::size_t insert(const PointCloud& cloud, double robot_x_m, double robot_y_m,
                      const PoseNoise& noise) {
     std::lock_guard<std::mutex> lock(frame_mutex_);
-    points_.assign(cloud, weighting_);
-    map_.begin_frame(robot_x_m, robot_y_m, noise);
-    const std::size_t updates = map_.insert(points_);
-    hazards_.run(map_);
+    const std::size_t updates = mapper_.insert(cloud, robot_x_m, robot_y_m, noise);
+    mapper_.classify();
     ++frames_;
     return updates;
   }
 
  private:
   Config config_;
-  LayerStack map_;
-  CcmWeighting weighting_;
-  MapPoints points_;
-  HazardStage hazards_;
+  Mapper mapper_;
 };
 
 /// A Python Layer: layer `index` of `source`, holding `owner` (the Pipeline or LayerStack
@@ -426,8 +415,7 @@ the same grids a Pipeline gives. Same threading rules as Pipeline.)");
     py::dict d;
     d["points"] = cloud.size();
     d["updates"] = updates;
-    GateCounts gated;
-    for (std::size_t i = 0; i < s.map().size(); ++i) gated += s.map().gate_counts(i);
+    const GateCounts& gated = s.mapper().gated();
     d["gated_std"] = gated.std_gate;
     d["gated_consistency"] = gated.consistency_gate;
     return d;

@@ -245,9 +245,11 @@ void validate(const Config& config) {
 
 namespace {
 
-/// The dump's layout, as it has always been: these maps (and each layer) on one line.
+/// The dump's layout, as it has always been: these maps (every rule's settings, and each
+/// layer) on one line.
 bool written_in_flow(const std::string& section) {
-  for (const char* flow : {"rules.kalman", "rules.omg", "rules.ccm", "hazard", "pose_uncertainty", "output"})
+  if (section.rfind("rules.", 0) == 0) return true;
+  for (const char* flow : {"hazard", "pose_uncertainty", "output"})
     if (section == flow) return true;
   return false;
 }

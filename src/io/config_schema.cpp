@@ -255,7 +255,7 @@ const std::vector<LayerKey>& layer_keys() {
         in(-kInf, kMaxLayerSize, "[]",
            "must be <= " + std::to_string(kMaxLayerSize) +
                " (a layer's size^2 cells are addressed with 32-bit indices)")}, true},
-      {"rule", LAYER_FIELD(rule), "", "`kalman`, `omg`, `ccm` or `bananas` (baseline: last point)", {}, true},
+      {"rule", LAYER_FIELD(rule), "", "the layer's update rule, one of the registry's (allowed); `bananas` is the baseline: last point", {}, true},
       {"max_std_ratio", LAYER_FIELD(max_std_ratio), "",
        "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; < 0: `rules.ccm.max_std_ratio`",
        {finite("must be finite")}},

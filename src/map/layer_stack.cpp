@@ -13,35 +13,10 @@
 
 namespace hazmap {
 
-CcmWeighting ccm_weighting(const CcmConfig& ccm) { return ccm.weighting; }
-
 double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
   const double ratio = layer.max_std_ratio < 0 ? rules.ccm.max_std_ratio : layer.max_std_ratio;
   return ratio > 0 ? ratio * layer.resolution_m / std::sqrt(12.0) : 0.0;
 }
-
-namespace {
-
-// A rule's parameters from the run's configuration (rules.<name>, hazard). A rule without
-// an overload here has none: it gets Rule::Config{}.
-template <class Rule>
-typename Rule::Config rule_config(RuleTag<Rule>, const RulesConfig&, const HazardConfig&) {
-  return typename Rule::Config{};
-}
-KalmanRule::Config rule_config(RuleTag<KalmanRule>, const RulesConfig& rules, const HazardConfig&) {
-  return rules.kalman;
-}
-OmgRule::Config rule_config(RuleTag<OmgRule>, const RulesConfig& rules, const HazardConfig&) {
-  return OmgRule::Config{rules.omg.max_weight, rules.omg.decay, rules.omg.gate_sigma};
-}
-CcmRule::Config rule_config(RuleTag<CcmRule>, const RulesConfig& rules, const HazardConfig& hazard) {
-  CcmRule::Config cfg{rules.ccm.max_weight, rules.ccm.min_points, rules.ccm.min_coverage,
-                      rules.ccm.full_plane};
-  cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
-  return cfg;
-}
-
-}  // namespace
 
 std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules,
                                   const HazardConfig& hazard, std::size_t index) {
@@ -54,7 +29,8 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
     throw Error("config: key 'map.layers." + std::to_string(index) + ".rule': unknown rule");
   return visit_rule(layer.rule, [&](auto tag) -> std::unique_ptr<Layer> {
     using Rule = typename decltype(tag)::type;
-    return std::make_unique<RollingLayer<Rule>>(n, r, rule_config(tag, rules, hazard), gate, pooled);
+    using Entry = typename decltype(tag)::entry;
+    return std::make_unique<RollingLayer<Rule>>(n, r, rule_config<Entry>(rules, hazard), gate, pooled);
   });
 }
 

@@ -8,6 +8,7 @@
 
 #include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {

@@ -54,35 +54,22 @@ const Config& check_map_fits_memory(const Config& config) {
 Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(check_map_fits_memory(config)),
       front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
-      map_(config.map, config.rules, config.hazard, config.pose_uncertainty.enabled),
-      weighting_(ccm_weighting(config.rules.ccm)),
-      layer_map_ms_(config.map.layers.size(), 0.0),
-      layer_gates_(config.map.layers.size()),
-      hazards_(resolve_hazard_params(config), config.hazard.incremental) {
+      mapper_(config, config.pose_uncertainty.enabled) {
   // The axis model's covariance has closed forms for all the map reads: skip the cloud.
-  if (config.sensor.model == SensorModel::axis) front_.set_map_points_output(weighting_);
+  if (config.sensor.model == SensorModel::axis) front_.set_map_points_output(mapper_.weighting());
 }
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
                               const PoseNoise& noise) {
   FrameReport report;
-  // The terrain the finest layer published after the previous frame, for the occlusion
-  // check. Only the finest: coarser cells are too coarse for rays a few centimetres from
-  // the lens, and where the finest layer knows nothing (under the rover) neither
-  // does a coarse cell's mean.
-  terrain_.clear();
-  if (!hazards_.layers().empty()) {
-    const LayerGrids& finest = hazards_.layers().front().map;
-    terrain_.add_layer(finest.height, finest.variance, finest.slope_x, finest.slope_y);
-  }
-  const StereoTimes stereo = front_.process(left, right, T_W_B, terrain_);
+  const StereoTimes stereo = front_.process(left, right, T_W_B, mapper_.known_terrain());
   report.ms.rectify_ms = stereo.grey_ms + stereo.rectify_ms;
   report.ms.disparity_ms = stereo.disparity_ms;
   auto t = Clock::now();
   // The axis model's points go straight from the disparities into the map's arrays
   // (front_.map_points()); the ray model goes through the cloud.
-  const MapPoints& points = front_.map_points_output() ? front_.map_points() : points_;
-  if (!front_.map_points_output()) points_.assign(front_.cloud(), weighting_);
+  const MapPoints& points =
+      front_.map_points_output() ? front_.map_points() : mapper_.assign_points(front_.cloud());
   report.points = static_cast<std::size_t>(points.size());
   report.points_below_ground = front_.points_below_ground();
   report.points_occluded = front_.points_occluded();
@@ -91,16 +78,12 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
 
   t = Clock::now();
   const Eigen::Vector3d robot = T_W_B.translation();
-  map_.begin_frame(robot.x(), robot.y(), noise);
-  report.updates = map_.insert(points, layer_map_ms_.data());
+  report.updates = mapper_.insert(points, robot.x(), robot.y(), noise);
   report.ms.map_ms = ms_since(t);
-  for (size_t i = 0; i < map_.size(); ++i) {
-    layer_gates_[i] = map_.gate_counts(i);
-    report.gated += layer_gates_[i];
-  }
+  report.gated = mapper_.gated();
 
   t = Clock::now();
-  hazards_.run(map_);
+  mapper_.classify();
   report.ms.hazard_ms = ms_since(t);
   return report;
 }

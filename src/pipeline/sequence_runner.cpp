@@ -17,6 +17,7 @@
 #include "hazmap/pipeline/empty_run.hpp"
 #include "hazmap/pipeline/preflight_check.hpp"
 #include "hazmap/pipeline/rig_geometry.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 #include "hazmap/stereo/ground_plane_fit.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
 #include "io/json_writer.hpp"

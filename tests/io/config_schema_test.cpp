@@ -13,10 +13,13 @@
 #include <functional>
 #include <map>
 #include <sstream>
+#include <type_traits>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 #include "test_support.hpp"
 
 namespace hazmap {
@@ -53,17 +56,35 @@ constexpr std::size_t member_count() {
     return sizeof...(A);
 }
 
+/// Members of every rule's settings struct (rules/rule_registry.hpp: RuleEntry::settings).
+template <class Entry>
+constexpr std::size_t settings_members() {
+  if constexpr (std::is_null_pointer_v<decltype(Entry::settings)>) {
+    return 0;
+  } else {
+    return member_count<std::decay_t<decltype(std::declval<RulesConfig&>().*(Entry::settings))>>();
+  }
+}
+template <class... Entries>
+constexpr std::size_t rule_settings_members(RuleEntries<Entries...>) {
+  return (settings_members<Entries>() + ... + 0);
+}
+template <class... Entries>
+constexpr std::size_t rules_with_settings(RuleEntries<Entries...>) {
+  return ((std::is_null_pointer_v<decltype(Entries::settings)> ? 0 : 1) + ... + 0);
+}
+
 TEST(ConfigSchema, EveryStructMemberHasAKey) {
   // A member added to a config struct without its line in config_schema.cpp fails here.
   const std::size_t members =
       member_count<StereoConfig>() + member_count<SensorConfig>() + member_count<MapConfig>() +
-      member_count<KalmanConfig>() + member_count<OmgConfig>() + member_count<CcmConfig>() +
+      rule_settings_members(Rules{}) +  // rules.<name>: KalmanConfig, OmgConfig, CcmConfig
       member_count<HazardConfig>() + member_count<PoseUncertaintyConfig>() +
       member_count<OutputConfig>() +
       member_count<C2fConfig>() - 1;  // StereoConfig::c2f: a key per member, none for itself
   EXPECT_EQ(config_keys().size(), members);  // map.layers is MapConfig::layers' entry
   EXPECT_EQ(layer_keys().size(), member_count<LayerConfig>() - 1 + member_count<LayerHazardConfig>());
-  EXPECT_EQ(member_count<RulesConfig>(), 3u);
+  EXPECT_EQ(member_count<RulesConfig>(), rules_with_settings(Rules{}));  // one per rule with settings
   EXPECT_EQ(member_count<LayerHazardConfig>(), 4u);
 }
 

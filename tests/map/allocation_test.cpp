@@ -11,11 +11,12 @@
 
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
-#include "hazmap/map/layer_stack.hpp"
+#include "hazmap/hazard/hazard_stage.hpp"
+#include "hazmap/hazard/mapper.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"
+#include "hazmap/map/layer_stack.hpp"
 #include "hazmap/pipeline/frame_writer.hpp"
-#include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 #include "hazmap/stereo/c2f_matcher.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
@@ -103,6 +104,8 @@ void run(const std::string& insertion, bool pose) {
   DenseGrid fused, clearance, footprint, distance;
   // The pipeline's hazard stage, whole and incremental (SPEC 8.6).
   HazardStage whole(params, false), incremental(params, true);
+  // The core's facade, as Pipeline and the Python LayerStack run it (hazard/mapper.hpp).
+  Mapper mapper(config, pose);
   long after_first = 0;
   std::size_t consistency_gated = 0;
   for (int frame = 0; frame < 6; ++frame) {
@@ -121,6 +124,8 @@ void run(const std::string& insertion, bool pose) {
     fusion.footprint(fused, params.footprint_radius_m, footprint, distance);
     whole.run(stack);
     incremental.run(stack);
+    mapper.insert(cloud, 0.1 * frame, 0.0, PoseNoise{0.001, 0.001, 0.001, 0.001});
+    mapper.classify();
   }
   EXPECT_EQ(g_news.load() - after_first, 0) << insertion << (pose ? " with pose uncertainty" : "");
   // The Kalman layer's consistency gate ran and dropped points (the terrain varies by

@@ -10,6 +10,7 @@
 
 #include "hazmap/map/grid_math.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {
@@ -60,7 +61,8 @@ TEST(Gates, LateralGateDropsExactlyThePointsTheFormulaSaysForEveryRule) {
   }
   ASSERT_GT(wide_in_window, 500u);
   ASSERT_LT(wide_in_window, in_window - 500u);
-  for (RuleKind rule : {RuleKind::bananas, RuleKind::kalman, RuleKind::omg, RuleKind::ccm}) {
+  for (const RuleInfo& row : kRuleTable) {  // every rule in the registry
+    const RuleKind rule = row.kind;
     const std::string name = rule_name(rule);
     RulesConfig rules;
     // The layer's own ratio, and the fallback to rules.ccm.max_std_ratio.

@@ -17,6 +17,7 @@
 #include "hazmap/io/config.hpp"  // validate()
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/ccm.hpp"
+#include "hazmap/rules/rule_registry.hpp"
 
 namespace hazmap {
 namespace {
@@ -261,7 +262,8 @@ TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
   rules.kalman.gate_sigma = 3.0;
   rules.omg.gate_sigma = 3.0;
   rules.ccm.max_std_ratio = 1.0;
-  for (const RuleKind rule : {RuleKind::bananas, RuleKind::kalman, RuleKind::omg, RuleKind::ccm}) {
+  for (const RuleInfo& row : kRuleTable) {  // every rule in the registry
+    const RuleKind rule = row.kind;
     MapConfig map = stack(RuleKind::kalman, "all_layers", {{0.02, 48}, {0.04, 24}, {0.08, 16}, {0.16, 8}});
     map.layers[0].rule = rule;
     map.layers[2].rule = RuleKind::ccm;

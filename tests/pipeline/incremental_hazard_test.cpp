@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "hazmap/hazard/hazard_stage.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"
-#include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 #include "hazmap/sim/simulate.hpp"
 #include "test_support.hpp"

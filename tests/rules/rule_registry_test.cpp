@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <iterator>
 #include <vector>
@@ -19,28 +20,44 @@
 namespace hazmap {
 namespace {
 
-const RuleKind kAllKinds[] = {RuleKind::bananas, RuleKind::kalman, RuleKind::omg, RuleKind::ccm};
+/// The four rules the map shipped with when the registry replaced the switches: the
+/// "as before" tests below pin what each answered then. Every other list here is the
+/// registry's own (kRuleTable, Rules), so that adding a rule edits no test.
+const RuleKind kShippedKinds[] = {RuleKind::bananas, RuleKind::kalman, RuleKind::omg, RuleKind::ccm};
+
+/// Every kind in the registry, in its order.
+std::vector<RuleKind> all_kinds() {
+  std::vector<RuleKind> kinds;
+  for (const RuleInfo& row : kRuleTable) kinds.push_back(row.kind);
+  return kinds;
+}
+
+/// The rule structs' kName, in the order of the registry's entries (Rules).
+template <class... Entries>
+std::vector<std::string> struct_names(RuleEntries<Entries...>) {
+  return {Entries::type::kName...};
+}
 
 TEST(RuleRegistry, OneRowPerKindInEnumOrder) {
-  ASSERT_EQ(Rules::size, std::size(kAllKinds));
-  for (std::size_t i = 0; i < Rules::size; ++i) EXPECT_EQ(kRuleTable[i].kind, kAllKinds[i]);
+  ASSERT_EQ(Rules::size, all_kinds().size());
+  for (std::size_t i = 0; i < Rules::size; ++i) EXPECT_EQ(kRuleTable[i].kind, static_cast<RuleKind>(i));
+  for (std::size_t i = 0; i < std::size(kShippedKinds); ++i) EXPECT_EQ(kRuleTable[i].kind, kShippedKinds[i]);
 }
 
 TEST(RuleRegistry, NamesRoundTripForEveryKind) {
-  const std::vector<std::string> expected = {"bananas", "kalman", "omg", "ccm"};
   std::vector<std::string> names;
   for (const char* n : rule_names()) names.emplace_back(n);
-  EXPECT_EQ(names, expected);
-  for (RuleKind k : kAllKinds) {
+  EXPECT_EQ(names, struct_names(Rules{}));
+  const std::vector<std::string> shipped = {"bananas", "kalman", "omg", "ccm"};
+  ASSERT_GE(names.size(), shipped.size());
+  EXPECT_TRUE(std::equal(shipped.begin(), shipped.end(), names.begin()));
+  for (RuleKind k : all_kinds()) {
     const std::string name = rule_name(k);
     EXPECT_EQ(rule_info(k).name, name);
-    ASSERT_TRUE(rule_kind(name).has_value()) << name;
-    EXPECT_EQ(*rule_kind(name), k) << name;
     ASSERT_NE(find_rule(name), nullptr);
     EXPECT_EQ(find_rule(name)->kind, k);
   }
   for (const char* other : {"", "Ccm", "ccm ", "fused", "footprint", "min_height"}) {
-    EXPECT_FALSE(rule_kind(other).has_value()) << other;
     EXPECT_EQ(find_rule(other), nullptr) << other;
   }
 }
@@ -53,7 +70,7 @@ TEST(RuleRegistry, NamesComeFromTheRuleStructs) {
 }
 
 TEST(RuleRegistry, OnlyCcmHasAPlane) {
-  for (RuleKind k : kAllKinds) {
+  for (RuleKind k : kShippedKinds) {
     EXPECT_EQ(rule_info(k).has_plane, k == RuleKind::ccm) << rule_name(k);
     EXPECT_EQ(rule_has_plane(rule_name(k)), k == RuleKind::ccm) << rule_name(k);
   }
@@ -71,23 +88,20 @@ TEST(RuleRegistry, HazardFamiliesAsBefore) {
 TEST(RuleRegistry, PoolFamiliesAsBefore) {
   // Before the registry: ccm alone, bananas alone, kalman with omg.
   auto family = [](RuleKind k) { return k == RuleKind::ccm ? 0 : k == RuleKind::bananas ? 1 : 2; };
-  for (RuleKind a : kAllKinds)
-    for (RuleKind b : kAllKinds)
+  for (RuleKind a : kShippedKinds)
+    for (RuleKind b : kShippedKinds)
       EXPECT_EQ(same_pool_family(a, b), family(a) == family(b)) << rule_name(a) << " " << rule_name(b);
 }
 
 TEST(RuleRegistry, VisitRuleCallsWithTheKindsStruct) {
-  for (RuleKind k : kAllKinds) {
+  for (RuleKind k : all_kinds()) {
     const char* visited = visit_rule(k, [](auto tag) { return decltype(tag)::type::kName; });
     EXPECT_STREQ(visited, rule_name(k));
   }
-  std::vector<std::string> seen;
-  for_each_rule([&](auto tag) { seen.emplace_back(decltype(tag)::type::kName); });
-  EXPECT_EQ(seen, (std::vector<std::string>{"bananas", "kalman", "omg", "ccm"}));
 }
 
 TEST(RuleRegistry, MakeLayerBuildsTheKindsRule) {
-  for (RuleKind k : kAllKinds) {
+  for (RuleKind k : all_kinds()) {
     MapConfig map;
     LayerConfig layer;
     layer.rule = k;
@@ -108,12 +122,13 @@ std::string config_error(const std::string& yaml) {
 }
 
 TEST(RuleRegistry, UnknownNameIsAnErrorNamingTheKeyAndTheRules) {
+  std::string names;  // "bananas | kalman | omg | ccm": every name in the registry
+  for (const char* n : rule_names()) names += (names.empty() ? "" : " | ") + std::string(n);
+  EXPECT_EQ(names.rfind("bananas | kalman | omg | ccm", 0), 0u);
   EXPECT_EQ(config_error("map:\n  layers:\n    - {resolution: 0.01, size: 8, rule: magic}\n"),
-            "test.yaml:3: key 'map.layers.0.rule': 'magic' is not one of bananas | kalman | omg | "
-            "ccm");
+            "test.yaml:3: key 'map.layers.0.rule': 'magic' is not one of " + names);
   EXPECT_EQ(config_error("map:\n  layers:\n    - {resolution: 0.01, size: 8, rule: Ccm}\n"),
-            "test.yaml:3: key 'map.layers.0.rule': 'Ccm' is not one of bananas | kalman | omg | "
-            "ccm");
+            "test.yaml:3: key 'map.layers.0.rule': 'Ccm' is not one of " + names);
 }
 
 TEST(RuleRegistry, PoolingAcrossFamiliesIsAnError) {

@@ -1,5 +1,6 @@
 // The update-rule interface (rules/update_rule.hpp) from the outside: every rule, the four
-// of the map and a minimal rule written here (MinHeightRule), passes the compile-time
+// of the map and a minimal rule written outside the library (MinHeightRule,
+// examples/custom_rule/min_height_rule.hpp), passes the compile-time
 // checks and a suite of properties that hold for any rule, each driven through the real
 // RollingLayer<Rule> (insert, export_grids) as the map uses it.
 //
@@ -25,86 +26,13 @@
 #include "hazmap/rules/ccm.hpp"
 #include "hazmap/rules/kalman.hpp"
 #include "hazmap/rules/omg.hpp"
+#include "custom_rule/min_height_rule.hpp"
 
 namespace hazmap {
 namespace {
 
-/// A test-only rule: a cell holds the lowest height of the points that fell in it, and
-/// that point's sensor height variance Sigma_zz. The minimum does not depend on how the
-/// points are grouped, so runs merge straight into their cells. No ageing, no gate, no
-/// plane. Pooling (finest_then_pool) sees a cell as one height sample, like the baseline.
-struct MinHeightRule {
-  static constexpr const char* kName = "min_height";
-  // Traits (rules/update_rule.hpp), the same four in the same order in every rule:
-  /// Piecewise-constant cells: height and variance, no plane.
-  static constexpr bool kHasPlane = false;
-  /// The minimum is the same whatever the grouping: runs merge one by one straight into
-  /// their cells (run_sums reads the run's points from the chunk).
-  static constexpr MergePolicy kMerge = MergePolicy::per_run;
-  /// The layer keeps each cell's last-merge frame beside the cells.
-  static constexpr bool kStampInCell = false;
-  /// No SPEC 4 consistency gate.
-  static constexpr bool kHeightGate = false;
-
-  struct Config {};
-  struct Cell {
-    float height_m = std::numeric_limits<float>::quiet_NaN();
-    float variance_m2 = std::numeric_limits<float>::quiet_NaN();
-  };
-  /// The lowest point of a run, relative to the reference height, and its Sigma_zz.
-  struct Sums {
-    double min_dz = std::numeric_limits<double>::infinity();
-    float var = 0.0f;
-  };
-
-  static bool known(const Cell& c) { return !std::isnan(c.height_m); }
-  static void clear(Cell& c) { c = Cell{}; }
-  static void age(const Config&, Cell&, std::uint32_t) {}
-  static bool ages_exports(const Config&) { return false; }
-  /// Run r's lowest point, relative to the run's first height (which merge_run gets).
-  static Sums run_sums(const PointChunk& chunk, const ChunkRuns& runs, int r) {
-    Sums s;
-    const double z0 = chunk.z[runs.begin(r)];
-    for (int i = runs.begin(r); i < runs.end(r); ++i) {
-      const double dz = double(chunk.z[i]) - z0;
-      if (dz < s.min_dz) {
-        s.min_dz = dz;
-        s.var = chunk.var_z[i];
-      }
-    }
-    return s;
-  }
-  static void merge_run(const Config&, Cell& c, const Sums& s, double z_ref_m, std::uint32_t,
-                        double) {
-    if (!(s.min_dz < std::numeric_limits<double>::infinity())) return;
-    const auto z = static_cast<float>(z_ref_m + s.min_dz);  // exact: a float plus its offset
-    if (!known(c) || z < c.height_m) {
-      c.height_m = z;
-      c.variance_m2 = s.var;
-    }
-  }
-  static double max_precision(const Config&) { return 0.0; }
-  static Moments to_moments(const Cell& c) {
-    Moments m;
-    if (!known(c)) return m;
-    m.w = 1.0;
-    m.mz = c.height_m;
-    m.szz = c.variance_m2;
-    m.noise_var = c.variance_m2;
-    m.count = 1;
-    return m;
-  }
-  static void from_moments(const Config&, Cell& c, const Moments& m) {
-    if (m.empty()) {
-      clear(c);
-      return;
-    }
-    c.height_m = static_cast<float>(m.mz);
-    c.variance_m2 = static_cast<float>(m.szz / m.w);
-  }
-  static float height(const Cell& c) { return c.height_m; }
-  static float variance(const Cell& c) { return c.variance_m2; }
-};
+/// The custom rule of examples/custom_rule (min_height_rule.hpp).
+using custom_rule::MinHeightRule;
 
 static_assert(check_update_rule<BananasRule>());
 static_assert(check_update_rule<KalmanRule>());

@@ -11,8 +11,9 @@
 
 namespace hazmap {
 
+/// The update rules, in the registry's order (rules/rule_registry.hpp: each kind's struct,
+/// its name rule_name(kind), and its YAML name).
 enum class RuleKind { bananas, kalman, omg, ccm };
-const char* rule_name(RuleKind kind);
 
 /// map.insertion (SPEC 5): every point into every layer, or into the finest layer holding
 /// it with the coarser layers' covered cells pooled from their children.
@@ -67,19 +68,22 @@ struct KalmanConfig {
   double gate_sigma = 0.0;            ///< SPEC 4 consistency gate (0 = off)
 };
 
+/// OMG's settings are the rule's own configuration (rules/omg.hpp: OmgRule::Config).
 struct OmgConfig {
-  double max_weight = 1.0e7;
-  double decay = 1.0;
+  double max_weight = 1.0e7;  ///< S cap [1/m^2]
+  double decay = 1.0;         ///< S *= decay once per frame
   double gate_sigma = 0.0;  ///< SPEC 4 consistency gate (0 = off)
 };
 
+/// CCM's settings are the rule's own configuration (rules/ccm.hpp: CcmRule::Config extends
+/// it with the slope its layer derives from hazard.max_slope_deg).
 struct CcmConfig {
-  CcmWeighting weighting = CcmWeighting::constant;
-  bool full_plane = true;
-  double max_weight = 500;
-  int min_points = 10;
-  double min_coverage = 0.8;
-  double max_std_ratio = 0.0;
+  CcmWeighting weighting = CcmWeighting::constant;  ///< point weights (MapPoints, before the rule)
+  bool full_plane = true;     ///< use Sxy (SPEC 6.4); false: the thesis' 9-float forms
+  double max_weight = 500;    ///< W_l: weight cap applied once per frame
+  int min_points = 10;        ///< evaluable needs at least this many points
+  double min_coverage = 0.8;  ///< evaluable needs kappa >= this
+  double max_std_ratio = 0.0; ///< SPEC 4 lateral gate of layers without their own (0 off)
 };
 
 struct RulesConfig {

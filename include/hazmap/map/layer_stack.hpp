@@ -24,9 +24,6 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
 /// uniform-cell std r / sqrt(12) [m]; 0 when off.
 double gate_std_m(const LayerConfig& layer, const RulesConfig& rules);
 
-/// CCM weighting named in the config.
-CcmWeighting ccm_weighting(const CcmConfig& ccm);
-
 class LayerStack {
  public:
   /// `pose_uncertainty`: track pose noise and inflate exported variances (SPEC 7).

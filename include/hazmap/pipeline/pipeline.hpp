@@ -7,9 +7,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "hazmap/hazard/mapper.hpp"
 #include "hazmap/io/config.hpp"
-#include "hazmap/map/layer_stack.hpp"
-#include "hazmap/pipeline/hazard_stage.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
@@ -51,18 +50,20 @@ class Pipeline {
                       const PoseNoise& noise = {});
 
   const Config& config() const { return config_; }
-  const std::vector<LayerView>& layers() const { return hazards_.layers(); }
-  const DenseGrid& fused_hazard() const { return hazards_.planner_maps().fused; }
-  const PlannerMaps& planner_maps() const { return hazards_.planner_maps(); }
-  const HazardParams& hazard_params() const { return hazards_.params(); }
+  const std::vector<LayerView>& layers() const { return mapper_.layer_views(); }
+  const DenseGrid& fused_hazard() const { return mapper_.fused(); }
+  const PlannerMaps& planner_maps() const { return mapper_.planner_maps(); }
+  const HazardParams& hazard_params() const { return mapper_.hazard_params(); }
   /// The hazard stage, with what its last frame recomputed (SPEC 8.6).
-  const HazardStage& hazard_stage() const { return hazards_; }
-  const LayerStack& map() const { return map_; }
+  const HazardStage& hazard_stage() const { return mapper_.hazards(); }
+  const LayerStack& map() const { return mapper_.layers(); }
+  /// The map half of the path (hazard/mapper.hpp): layers, hazards, fused and footprint maps.
+  const Mapper& mapper() const { return mapper_; }
   /// Each layer's share of the last frame's insertion, ms (LayerStack::insert).
-  const std::vector<double>& layer_map_ms() const { return layer_map_ms_; }
+  const std::vector<double>& layer_map_ms() const { return mapper_.layer_ms(); }
   /// What each layer's SPEC 4 gates dropped in the last frame (a member, not part of
   /// FrameReport, so that a frame allocates nothing for it).
-  const std::vector<GateCounts>& layer_gates() const { return layer_gates_; }
+  const std::vector<GateCounts>& layer_gates() const { return mapper_.layer_gates(); }
   const PointCloud& cloud() const { return front_.cloud(); }
   const cv::Mat& disparity_x16() const { return front_.disparity_x16(); }
   /// The last frame's rectified 8-bit grey pair (what the matcher saw).
@@ -75,13 +76,7 @@ class Pipeline {
  private:
   Config config_;
   StereoFrontEnd front_;
-  LayerStack map_;
-  CcmWeighting weighting_;
-  MapPoints points_;  ///< the frame's points as the map reads them
-  KnownTerrain terrain_;  ///< views of the last frame's exported heights (hazards_)
-  std::vector<double> layer_map_ms_;
-  std::vector<GateCounts> layer_gates_;
-  HazardStage hazards_;
+  Mapper mapper_;  ///< the map half: insertion, hazards, the terrain for the occlusion check
 };
 
 }  // namespace hazmap

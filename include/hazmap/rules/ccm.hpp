@@ -16,9 +16,11 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/plane_cell_values.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/rules/merge_policy.hpp"
 
@@ -36,15 +38,19 @@ struct CcmRule {
   /// No SPEC 4 consistency gate.
   static constexpr bool kHeightGate = false;
 
-  struct Config {
-    double max_weight = 500;    ///< W_l: weight cap applied once per frame
-    int min_points = 10;        ///< evaluable needs at least this many points
-    double min_coverage = 0.8;  ///< evaluable needs kappa >= this
-    bool full_plane = true;     ///< use Sxy (SPEC 6.4); false: the thesis' 9-float forms
+  /// As read from rules.ccm (core/core_config.hpp: max_weight, min_points, min_coverage,
+  /// full_plane; weighting and max_std_ratio act before the rule), plus one value the
+  /// layer derives from the hazard section:
+  struct Config : CcmConfig {
     /// hazard.max_slope_deg in radians: the tilt a cell that is not evaluable may hide,
     /// in its published variance (SPEC 6.4).
     double max_slope_rad = 20.0 * M_PI / 180.0;
   };
+
+  /// The layer's Config from the hazard section (rule_registry.hpp: rule_config).
+  static void derive_config(Config& cfg, const HazardConfig& hazard) {
+    cfg.max_slope_rad = hazard.max_slope_deg * M_PI / 180.0;
+  }
 
   struct Cell {
     float w = 0.0f;
@@ -152,6 +158,13 @@ struct CcmRule {
     double a, b;
     slopes(cfg, c, &a, &b);
     return std::atan(std::sqrt(a * a + b * b));
+  }
+
+  /// What the cell publishes beside its plane (rules/update_rule.hpp): its point count,
+  /// mean noise variance and lateral (co)variances S/W.
+  static PlaneCellValues cell_values(const Cell& c) {
+    return {static_cast<float>(c.count), c.noise_var_m2, c.sxx / c.w, c.syy / c.w,
+            c.sxy / c.w,                 c.sxz / c.w,     c.syz / c.w};
   }
 
   /// Lateral coverage kappa = min(sxx, syy) / (r^2 / 12); 1 for points spread uniformly.

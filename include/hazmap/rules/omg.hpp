@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/map/internal/run_sums.hpp"
 #include "hazmap/map/internal/split_height.hpp"
 #include "hazmap/map/moments.hpp"
@@ -37,11 +38,8 @@ struct OmgRule {
   /// (rules/rule_registry.hpp; a rule without kPoolFamily pools only with itself).
   static constexpr const char* kPoolFamily = "kalman";
 
-  struct Config {
-    double max_weight = 1.0e7;  ///< S cap [1/m^2]
-    double decay = 1.0;         ///< S *= decay once per frame
-    double gate_sigma = 0.0;    ///< SPEC 4 consistency gate (0 = off)
-  };
+  /// As read from rules.omg (core/core_config.hpp): max_weight, decay, gate_sigma.
+  using Config = OmgConfig;
 
   struct Cell {
     SplitHeight mean_m;

@@ -12,15 +12,17 @@
 //                                   (optional, rules/update_rule.hpp: a rule without it
 //                                   pools only with itself)
 //
-// and visit_rule(kind, f) calls f(RuleTag<Rule>{}) with the kind's struct, so code that
+// and visit_rule(kind, f) calls f(RuleTag<Entry>{}) with the kind's line, so code that
 // builds something per rule (make_layer) is one template instead of a switch.
 //
 // Adding a rule: its header, its #include below and one RuleEntry line in Rules (plus its
-// enumerator in RuleKind, core/core_config.hpp). Its parameters in the YAML (rules.<name>)
-// and how they reach Rule::Config (make_layer's rule_config) are still written per rule.
+// enumerator in RuleKind, core/core_config.hpp). A rule with settings declares them once,
+// as a struct in core/core_config.hpp and its member in RulesConfig, which its RuleEntry
+// names; the rule's Config is that struct (an alias, like Kalman's) or extends it (CCM's);
+// rule_config below copies them for make_layer. Each setting's YAML key is one line in
+// io/config_schema.cpp.
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -36,11 +38,14 @@
 
 namespace hazmap {
 
-/// One registry line: the enumerator and the rule struct it selects.
-template <RuleKind K, class Rule>
+/// One registry line: the enumerator, the rule struct it selects and, for a rule with
+/// settings, the RulesConfig member holding them (rules.<name> in the YAML, keys declared in
+/// io/config_schema.cpp); the rule's Config is that struct or extends it (rule_config).
+template <RuleKind K, class Rule, auto Settings = nullptr>
 struct RuleEntry {
   static constexpr RuleKind kind = K;
   using type = Rule;
+  static constexpr auto settings = Settings;  ///< &RulesConfig::<name>, or nullptr: none
 };
 template <class... Entries>
 struct RuleEntries {
@@ -48,16 +53,41 @@ struct RuleEntries {
 };
 
 /// Every rule a configuration can name, in RuleKind order (checked below).
-using Rules = RuleEntries<RuleEntry<RuleKind::bananas, BananasRule>,  //
-                          RuleEntry<RuleKind::kalman, KalmanRule>,    //
-                          RuleEntry<RuleKind::omg, OmgRule>,          //
-                          RuleEntry<RuleKind::ccm, CcmRule>>;
+using Rules = RuleEntries<RuleEntry<RuleKind::bananas, BananasRule>,                       //
+                          RuleEntry<RuleKind::kalman, KalmanRule, &RulesConfig::kalman>,   //
+                          RuleEntry<RuleKind::omg, OmgRule, &RulesConfig::omg>,            //
+                          RuleEntry<RuleKind::ccm, CcmRule, &RulesConfig::ccm>>;
 
-/// A rule type passed to visit_rule's and for_each_rule's callable.
-template <class Rule>
+/// A registry line passed to visit_rule's callable: `type` is the rule struct.
+template <class Entry>
 struct RuleTag {
-  using type = Rule;
+  using type = typename Entry::type;
+  using entry = Entry;
 };
+
+namespace rule_registry_detail {
+template <class R, class = void>
+struct DerivesConfig : std::false_type {};
+template <class R>
+struct DerivesConfig<R, std::void_t<decltype(R::derive_config(
+                            std::declval<typename R::Config&>(), std::declval<const HazardConfig&>()))>>
+    : std::true_type {};
+}  // namespace rule_registry_detail
+
+/// The Config a layer of the entry's rule gets: the rule's settings as `rules` holds them
+/// (Entry::settings; none: Config{}), then what the rule derives from the hazard section
+/// (optional Rule::derive_config(Config&, const HazardConfig&), rules/update_rule.hpp).
+template <class Entry>
+typename Entry::type::Config rule_config(const RulesConfig& rules, const HazardConfig& hazard) {
+  using Rule = typename Entry::type;
+  typename Rule::Config cfg{};
+  if constexpr (!std::is_null_pointer_v<decltype(Entry::settings)>) {
+    using Settings = std::decay_t<decltype(rules.*(Entry::settings))>;
+    static_cast<Settings&>(cfg) = rules.*(Entry::settings);
+  }
+  if constexpr (rule_registry_detail::DerivesConfig<Rule>::value) Rule::derive_config(cfg, hazard);
+  return cfg;
+}
 
 namespace rule_registry_detail {
 
@@ -136,17 +166,14 @@ inline const RuleInfo& rule_info(RuleKind kind) {
   return kRuleTable[i];
 }
 
+/// The name of `kind` (Rule::kName): in the YAML and the outputs.
+inline const char* rule_name(RuleKind kind) { return rule_info(kind).name; }
+
 /// The row named `name` (Rule::kName), nullptr for any other name.
 inline const RuleInfo* find_rule(std::string_view name) {
   for (const RuleInfo& r : kRuleTable)
     if (name == r.name) return &r;
   return nullptr;
-}
-
-/// The kind named `name`, nothing for a name no rule has.
-inline std::optional<RuleKind> rule_kind(std::string_view name) {
-  const RuleInfo* r = find_rule(name);
-  return r ? std::optional<RuleKind>(r->kind) : std::nullopt;
 }
 
 /// Whether `name` is a rule whose cells fit a plane; false for other names (evaluation and
@@ -173,9 +200,9 @@ template <class F, class Entry, class... Rest>
 decltype(auto) visit_entries(RuleKind kind, F&& f) {
   if constexpr (sizeof...(Rest) == 0) {
     check(kind == Entry::kind, "rule_registry: a RuleKind without a registry entry (rule_registry.hpp)");
-    return std::forward<F>(f)(RuleTag<typename Entry::type>{});
+    return std::forward<F>(f)(RuleTag<Entry>{});
   } else {
-    if (kind == Entry::kind) return std::forward<F>(f)(RuleTag<typename Entry::type>{});
+    if (kind == Entry::kind) return std::forward<F>(f)(RuleTag<Entry>{});
     return visit_entries<F, Rest...>(kind, std::forward<F>(f));
   }
 }
@@ -183,23 +210,13 @@ template <class F, class... Entries>
 decltype(auto) visit(RuleKind kind, F&& f, RuleEntries<Entries...>) {
   return visit_entries<F, Entries...>(kind, std::forward<F>(f));
 }
-template <class F, class... Entries>
-void for_each(F& f, RuleEntries<Entries...>) {
-  (f(RuleTag<typename Entries::type>{}), ...);
-}
 }  // namespace rule_registry_detail
 
-/// Calls f(RuleTag<Rule>{}) with the rule struct of `kind` and returns what f returns
+/// Calls f(RuleTag<Entry>{}) with the registry line of `kind` and returns what f returns
 /// (f must return one type for every rule): a dispatch over Rules, no switch to extend.
 template <class F>
 decltype(auto) visit_rule(RuleKind kind, F&& f) {
   return rule_registry_detail::visit(kind, std::forward<F>(f), Rules{});
-}
-
-/// Calls f(RuleTag<Rule>{}) for every rule, in RuleKind order.
-template <class F>
-void for_each_rule(F&& f) {
-  rule_registry_detail::for_each(f, Rules{});
 }
 
 }  // namespace hazmap

@@ -67,7 +67,7 @@
 //       published_variance(const Config&, const Cell&, double cell_m, bool evaluable) -> number
 //       roughness(const Config&, const Cell&) -> number
 //       coverage(const Cell&, double cell_m) -> number
-//       Cell fields count, noise_var_m2, w, sxx, syy, sxy, sxz, syz
+//       cell_values(const Cell&) -> PlaneCellValues   count, noise and lateral grids
 //     else (piecewise-constant cells):
 //       height(const Cell&) -> float, variance(const Cell&) -> float   NaN when unknown
 //
@@ -75,6 +75,10 @@
 //   static constexpr const char* kPoolFamily   the family of rules whose layers
 //     finest_then_pool may pool together (SPEC 5); without it a rule pools only with
 //     itself (its kName). OMG declares "kalman": both pool as a weighted height.
+//
+//   static void derive_config(Config&, const HazardConfig&)   values of its Config the
+//     rule derives from the hazard section (CCM: max_slope_rad), after its settings are
+//     copied (rules/rule_registry.hpp: rule_config).
 //
 // Members a rule may have that the layer does not use (update, mean, ...) are not checked.
 
@@ -84,6 +88,7 @@
 #include <utility>
 
 #include "hazmap/map/moments.hpp"
+#include "hazmap/map/plane_cell_values.hpp"
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/rules/merge_policy.hpp"
 #include "hazmap/rules/run_view.hpp"
@@ -262,16 +267,9 @@ using roughness_t =
 template <class R>
 using coverage_t =
     decltype(static_cast<float>(R::coverage(lv<const cell_t<R>>(), lv<const double>())));
-// static_cast<float>(c.count); out.noise_variance.at(..) = c.noise_var_m2;
-// out.lateral_xx.at(..) = c.sxx / c.w (and yy, xy, xz, yz).
+// const PlaneCellValues v = Rule::cell_values(c).
 template <class R>
-using plane_fields_t = decltype(static_cast<float>(lv<const cell_t<R>>().count),
-                                lv<float>() = lv<const cell_t<R>>().noise_var_m2,
-                                lv<float>() = lv<const cell_t<R>>().sxx / lv<const cell_t<R>>().w,
-                                lv<float>() = lv<const cell_t<R>>().syy / lv<const cell_t<R>>().w,
-                                lv<float>() = lv<const cell_t<R>>().sxy / lv<const cell_t<R>>().w,
-                                lv<float>() = lv<const cell_t<R>>().sxz / lv<const cell_t<R>>().w,
-                                lv<float>() = lv<const cell_t<R>>().syz / lv<const cell_t<R>>().w);
+using cell_values_t = decltype(PlaneCellValues(R::cell_values(lv<const cell_t<R>>())));
 
 // ---- !kHasPlane (export_cells): out.height.at(row, col) = Rule::height(c), variance. ----
 
@@ -488,10 +486,10 @@ constexpr bool check_update_rule() {
       static_assert(coverage_ok,
                     "update rule with kHasPlane: needs static double coverage(const Cell&, double "
                     "cell_m) -- how well the points cover the cell laterally");
-      constexpr bool fields_ok = is_detected_v<plane_fields_t, Rule>;
+      constexpr bool fields_ok = is_detected_v<cell_values_t, Rule>;
       static_assert(fields_ok,
-                    "update rule with kHasPlane: needs Cell fields count, noise_var_m2, w, sxx, "
-                    "syy, sxy, sxz, syz -- exported as the count, noise and lateral grids");
+                    "update rule with kHasPlane: needs static PlaneCellValues cell_values(const "
+                    "Cell&) -- exported as the count, noise and lateral grids");
       export_ok = evaluable_ok && slopes_ok && height_at_ok && mean_z_ok && published_ok &&
                   roughness_ok && coverage_ok && fields_ok;
     } else {

@@ -10,6 +10,7 @@
 
 #include "hazmap/map/internal/layer_cells.hpp"
 #include "hazmap/map/layer.hpp"
+#include "hazmap/map/plane_cell_values.hpp"
 
 namespace hazmap {
 namespace layer_export {
@@ -52,13 +53,14 @@ void export_cells(const LayerCells<Rule>& cells, const RollingGrid& grid, LayerG
         out.roughness.at(row, col) = static_cast<float>(Rule::roughness(config, c));
         out.coverage.at(row, col) = static_cast<float>(Rule::coverage(c, r));
         out.evaluable.at(row, col) = evaluable ? 1.0f : 0.0f;
-        out.count.at(row, col) = static_cast<float>(c.count);
-        out.noise_variance.at(row, col) = c.noise_var_m2;
-        out.lateral_xx.at(row, col) = c.sxx / c.w;
-        out.lateral_yy.at(row, col) = c.syy / c.w;
-        out.lateral_xy.at(row, col) = c.sxy / c.w;
-        out.lateral_xz.at(row, col) = c.sxz / c.w;
-        out.lateral_yz.at(row, col) = c.syz / c.w;
+        const PlaneCellValues v = Rule::cell_values(c);
+        out.count.at(row, col) = v.count;
+        out.noise_variance.at(row, col) = v.noise_variance;
+        out.lateral_xx.at(row, col) = v.lateral_xx;
+        out.lateral_yy.at(row, col) = v.lateral_yy;
+        out.lateral_xy.at(row, col) = v.lateral_xy;
+        out.lateral_xz.at(row, col) = v.lateral_xz;
+        out.lateral_yz.at(row, col) = v.lateral_yz;
       } else {
         out.height.at(row, col) = Rule::height(c);
         out.variance.at(row, col) = Rule::variance(c);

@@ -1,4 +1,4 @@
-#include "hazmap/pipeline/hazard_stage.hpp"
+#include "hazmap/hazard/hazard_stage.hpp"
 
 #include <algorithm>
 #include <cmath>
