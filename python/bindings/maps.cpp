@@ -13,6 +13,7 @@
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/map/map_points.hpp"

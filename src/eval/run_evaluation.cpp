@@ -25,6 +25,7 @@
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"

@@ -22,7 +22,7 @@
 #include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
-#include "hazmap/pipeline/map_render.hpp"
+#include "hazmap/map/height_range.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 #include "viewer/viewer_assets.hpp"
 

@@ -25,11 +25,11 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/core/types.hpp"
-#include "hazmap/io/config.hpp"
 #include "hazmap/map/known_terrain.hpp"
 #include "hazmap/map/map_points.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 
