@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 
 namespace hazmap {
 
@@ -25,11 +26,7 @@ void validate(const StereoCalibration& c, const std::string& source) {
   auto fail = [&](const std::string& key, const std::string& what) {
     throw Error(source + ": key '" + key + "': " + what);
   };
-  auto number = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return std::string(text);
-  };
+  auto number = [](double v) { return printf_double(v, "%g"); };
   if (c.image_width <= 0) fail("image_width", "must be > 0");
   if (c.image_height <= 0) fail("image_height", "must be > 0");
   const double side = std::max(c.image_width, c.image_height);

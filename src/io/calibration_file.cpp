@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/opencv_calibration.hpp"
 #include "io/yaml_access.hpp"
@@ -124,11 +125,7 @@ bool is_opencv_file_storage(const std::string& text) {
   return text.compare(start, 6, "%YAML:") == 0 || text.compare(start, 5, "<?xml") == 0;
 }
 
-std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
+std::string number(double v) { return printf_double(v, "%.17g"); }
 
 std::string list(const double* v, size_t n) {
   std::string out = "[";

@@ -7,16 +7,13 @@
 #include <opencv2/calib3d.hpp>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 #include "hazmap/io/images.hpp"
 
 namespace hazmap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// Median of `v` (upper median for an even count: no averaging of two samples, which
 /// under load may come from different regimes). `v` is reordered.
