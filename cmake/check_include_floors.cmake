@@ -8,7 +8,10 @@
 # core, rules, map and hazard form hazmap_core (Eigen only, cmake/check_core_includes.cmake).
 # rules and map share a floor: the update rules are templates over the map's point chunks,
 # moments and run sums, and the map's layers are templates over the rules, so neither
-# compiles without the other. app (the CLI) may include everything.
+# compiles without the other. This is also the one kernel exception: header-only rule
+# code (include/hazmap/rules/) calls kernels compiled in src/map/ (chunk_runs.cpp,
+# run_sums.cpp, kalman_runs.cpp), all inside hazmap_core. app (the CLI) may include
+# everything.
 # Prints file:line and both modules of every include that goes up a floor, and fails.
 #   cmake -DHAZMAP_SOURCE_DIR=<repo> -P cmake/check_include_floors.cmake
 cmake_policy(SET CMP0057 NEW)  # if(... IN_LIST ...)
