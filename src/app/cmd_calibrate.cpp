@@ -8,6 +8,8 @@
 #include "cli.hpp"
 #include "hazmap/camera/chessboard_calibration.hpp"
 #include "hazmap/camera/rectifier.hpp"
+#include "hazmap/io/calibration_file.hpp"
+#include "hazmap/io/chessboard_pairs.hpp"
 
 namespace hazmap::cli {
 

@@ -13,6 +13,7 @@
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/output_folder.hpp"
+#include "hazmap/io/run_layout.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/sequence_runner.hpp"
 
@@ -108,7 +109,7 @@ int cmd_run(int argc, char** argv) {
   hazmap::SequenceRun run(config, sequence, options);
   // Every check has passed: only now may an earlier output go (--overwrite).
   hazmap::clear_output_folder(out);
-  setup_logging(options.out_dir / "run.log", args.on("quiet"));
+  setup_logging(options.out_dir / hazmap::run_layout::kRunLog, args.on("quiet"));
   spdlog::info("hazmap {} run: config {}, sequence {}, out {}", HAZMAP_VERSION,
                options.config_path.string(), options.sequence_dir.string(),
                options.out_dir.string());
@@ -128,7 +129,7 @@ int cmd_run(int argc, char** argv) {
   }
   spdlog::info("done: {} frames, {} points; wrote {} frame folders under {}",
                result.frames_processed, result.points_total, result.frames_written,
-               (options.out_dir / "frames").string());
+               (options.out_dir / hazmap::run_layout::kFramesDir).string());
   // The frames are written (all unknown), but a map without a point is a failed run.
   if (!result.no_points.empty()) throw hazmap::Error(result.no_points);
   return 0;

@@ -8,12 +8,14 @@
 
 #include "cli.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/output_folder.hpp"
 #include "hazmap/io/ply.hpp"
+#include "hazmap/io/run_layout.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/rig_geometry.hpp"
 #include "hazmap/stereo/band_matcher.hpp"
@@ -50,11 +52,7 @@ cloud is then in EuRoC's body frame).
   --quiet        no per-frame progress on the terminal
 )";
 
-std::string json_number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4f", v);
-  return buffer;
-}
+std::string json_number(double v) { return printf_double(v, "%.4f"); }
 
 }  // namespace
 
@@ -92,7 +90,7 @@ int cmd_stereo(int argc, char** argv) {
   hazmap::StereoFrontEnd front_end(config.stereo, config.sensor, sequence.calibration);
   hazmap::clear_output_folder(out);  // every check has passed
 
-  setup_logging(out_dir / "run.log", args.on("quiet"));
+  setup_logging(out_dir / hazmap::run_layout::kRunLog, args.on("quiet"));
   for (const std::string& w : warnings) spdlog::warn("{}", w);
   const hazmap::StereoGeometry& g = front_end.rectifier().geometry();
   const cv::Rect region = front_end.builder().region();
@@ -120,7 +118,7 @@ int cmd_stereo(int argc, char** argv) {
       const cv::Mat right = hazmap::read_image(f.right_path);
       const hazmap::StereoTimes t = front_end.process(left, right, f.pose.T_W_B);
 
-      const std::filesystem::path dir = out_dir / "frames" / f.name;
+      const std::filesystem::path dir = hazmap::run_layout::frame_dir(out_dir, f.name);
       hazmap::write_png(dir / "left_rect.png", front_end.rectified_left());
       hazmap::write_png(dir / "right_rect.png", front_end.rectified_right());
       const int invalid = front_end.matcher().invalid_below();

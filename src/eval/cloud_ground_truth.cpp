@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/eval/ground_truth.hpp"
 #include "hazmap/io/atomic_file.hpp"
 
@@ -55,11 +56,7 @@ class PlaneAtCenter {
   double zmax_ = -std::numeric_limits<double>::infinity();
 };
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
+std::string num(double v) { return printf_double(v, "%.9g"); }
 
 }  // namespace
 

@@ -4,15 +4,12 @@
 #include <cstdio>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 
 namespace hazmap::eval {
 namespace {
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", v);
-  return text;
-}
+std::string number(double v) { return printf_double(v, "%.9g"); }
 
 }  // namespace
 

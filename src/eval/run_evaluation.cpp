@@ -20,13 +20,16 @@
 #include "io/json_writer.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/eval/grid_checks.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/jdem.hpp"
+#include "hazmap/io/run_layout.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/rules/rule_registry.hpp"
@@ -41,7 +44,7 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     const LayerConfig& lc = config.map.layers[i];
     EvaluatedLayer l;
-    l.name = "L" + std::to_string(i);
+    l.name = run_layout::layer_id(i);
     l.index = static_cast<int>(i);
     l.resolution_m = lc.resolution_m;
     l.rule = rule_name(lc.rule);
@@ -52,8 +55,9 @@ std::vector<EvaluatedLayer> evaluated_layers(const Config& config, bool with_foo
   if (config.map.layers.empty()) return layers;
   // SPEC 8.4, 10: both maps are at the finest resolution and must show every obstacle of
   // the critical height.
-  const std::pair<const char*, const char*> maps[] = {{"fused", "fused_hazard.jdem"},
-                                                      {"footprint", "footprint_hazard.jdem"}};
+  const std::pair<const char*, std::string> maps[] = {
+      {"fused", run_layout::jdem_file(run_layout::kFusedHazard)},
+      {"footprint", run_layout::jdem_file(run_layout::kFootprintHazard)}};
   for (const auto& [name, file] : maps) {
     if (std::string(name) == "footprint" && !with_footprint) continue;
     EvaluatedLayer l;
@@ -85,7 +89,7 @@ namespace {
 
 /// RUN/summary.json, which is JSON, read as YAML (a superset).
 YAML::Node load_summary(const fs::path& run_dir) {
-  const fs::path summary = run_dir / "summary.json";
+  const fs::path summary = run_dir / run_layout::kSummaryJson;
   if (!fs::exists(summary))
     throw Error(summary.string() + ": missing (is " + run_dir.string() + " the OUT of hazmap run?)");
   try {
@@ -100,14 +104,14 @@ std::string summary_string(const YAML::Node& root, const char* key, const fs::pa
   try {
     return root[key] ? root[key].as<std::string>() : std::string();
   } catch (const YAML::Exception& e) {
-    throw Error((run_dir / "summary.json").string() + ": \"" + key + "\": " + e.what());
+    throw Error((run_dir / run_layout::kSummaryJson).string() + ": \"" + key + "\": " + e.what());
   }
 }
 
 Config config_from_summary(const YAML::Node& root, const fs::path& run_dir) {
   // settings_yaml is the full configuration as used, parsed by the same strict loader as
   // a config file.
-  const std::string summary = (run_dir / "summary.json").string();
+  const std::string summary = (run_dir / run_layout::kSummaryJson).string();
   if (!root["settings_yaml"]) throw Error(summary + ": no \"settings_yaml\" key");
   return parse_config(summary_string(root, "settings_yaml", run_dir), summary + " settings_yaml");
 }
@@ -119,8 +123,8 @@ RunSource source_from_summary(const YAML::Node& root, const fs::path& run_dir) {
   if (!hex.empty()) {
     source.poses_fingerprint = parse_fingerprint_hex(hex);
     if (!source.poses_fingerprint)
-      throw Error((run_dir / "summary.json").string() + ": \"poses_fingerprint\" '" + hex +
-                  "' is not 16 hexadecimal digits");
+      throw Error((run_dir / run_layout::kSummaryJson).string() + ": \"poses_fingerprint\" '" +
+                  hex + "' is not 16 hexadecimal digits");
   }
   return source;
 }
@@ -129,7 +133,7 @@ void check_source(const RunSource& source, const fs::path& run_dir, const fs::pa
   if (!source.poses_fingerprint) {
     spdlog::warn("{}: records no poses fingerprint (a run made before hazmap recorded one): "
                  "cannot check that it was made from {}",
-                 (run_dir / "summary.json").string(), sequence_dir.string());
+                 (run_dir / run_layout::kSummaryJson).string(), sequence_dir.string());
     return;
   }
   const std::uint64_t given = read_poses_fingerprint(sequence_dir);
@@ -190,10 +194,7 @@ std::map<std::string, Pose3d> read_pose_map(const fs::path& path) {
 }
 
 std::string fmt(double v, const char* format = "%.6g") {
-  if (!std::isfinite(v)) return "nan";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
+  return printf_finite(v, format, "nan");
 }
 
 // Percent / centimetre cells for people ("-" when undefined).
@@ -347,21 +348,25 @@ cv::Mat outcome_legend() {
 /// grid on the hazard grid's geometry (errors name the files).
 LayerMaps read_layer(const fs::path& frame_dir, const EvaluatedLayer& layer) {
   LayerMaps maps;
+  const std::size_t i = layer.index < 0 ? 0 : static_cast<std::size_t>(layer.index);
   const fs::path hazard_file =
-      frame_dir / (layer.index < 0 ? layer.hazard_file : "L" + std::to_string(layer.index) + "_hazard.jdem");
+      frame_dir / (layer.index < 0 ? layer.hazard_file
+                                   : run_layout::jdem_file(run_layout::layer_stem(i, "hazard")));
   maps.hazard = read_dense_grid(hazard_file);
   check_hazard_classes(maps.hazard, hazard_file.string());
   if (layer.index < 0) return maps;
-  const std::string p = "L" + std::to_string(layer.index) + "_";
-  const auto read_beside = [&](const std::string& name, DenseGrid& into) {
-    into = read_dense_grid(frame_dir / (p + name));
-    check_same_geometry(into, (frame_dir / (p + name)).string(), maps.hazard, hazard_file.string());
+  const auto file = [&](const char* quantity) {
+    return frame_dir / run_layout::jdem_file(run_layout::layer_stem(i, quantity));
   };
-  read_beside("height.jdem", maps.height);
-  if (fs::exists(frame_dir / (p + "variance.jdem"))) read_beside("variance.jdem", maps.variance);
+  const auto read_beside = [&](const char* quantity, DenseGrid& into) {
+    into = read_dense_grid(file(quantity));
+    check_same_geometry(into, file(quantity).string(), maps.hazard, hazard_file.string());
+  };
+  read_beside("height", maps.height);
+  if (fs::exists(file("variance"))) read_beside("variance", maps.variance);
   if (rule_has_plane(layer.rule)) {
-    read_beside("slope_x.jdem", maps.slope_x);
-    read_beside("slope_y.jdem", maps.slope_y);
+    read_beside("slope_x", maps.slope_x);
+    read_beside("slope_y", maps.slope_y);
   }
   return maps;
 }
@@ -427,14 +432,12 @@ SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const
   return seen;
 }
 
-void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
-                   const std::vector<std::pair<std::string, fs::path>>& error_pngs,
-                   const Config& config) {
+/// metrics.csv: every frame x layer.
+void write_metrics_csv(const RunEvaluation& ev) {
   const fs::path& out = ev.out_dir;
-  // metrics.csv
   const bool near = ev.near_radius_m >= 0.0;
-  std::ostringstream csv;
   const bool seen = ev.seen_enabled;
+  std::ostringstream csv;
   csv << csv_header(true, near) << (seen ? seen_header(near) : "") << '\n';
   for (size_t f = 0; f < ev.frames.size(); ++f)
     for (size_t l = 0; l < ev.layers.size(); ++l) {
@@ -446,8 +449,13 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
           << '\n';
     }
   write_file_atomically(out / "metrics.csv", csv.str());
+}
 
-  // summary.csv: pooled per layer; frame columns hold the count of frames.
+/// summary.csv: pooled per layer; frame columns hold the count of frames.
+void write_summary_csv(const RunEvaluation& ev) {
+  const fs::path& out = ev.out_dir;
+  const bool near = ev.near_radius_m >= 0.0;
+  const bool seen = ev.seen_enabled;
   std::ostringstream sum;
   // Seen within the vouching layers' lateral gate (LateralGate), near only: free cells.
   const bool gated = seen && near;
@@ -468,8 +476,14 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
         << (gated ? gated_row(ev.near_gated_pooled[l]) : "") << '\n';
   }
   write_file_atomically(out / "summary.csv", sum.str());
+}
 
-  // metrics.json
+/// metrics.json: the pooled and per-frame metrics with the settings used.
+void write_metrics_json(const EvaluationOptions& options, const RunEvaluation& ev,
+                        const Config& config) {
+  const fs::path& out = ev.out_dir;
+  const bool near = ev.near_radius_m >= 0.0;
+  const bool seen = ev.seen_enabled;
   JsonWriter j;
   j.begin_object();
   j.key("hazmap_version").value(HAZMAP_VERSION);
@@ -545,8 +559,12 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   j.key("settings_yaml").value(to_yaml(config));
   j.end_object();
   write_file_atomically(out / "metrics.json", j.str());
+}
 
-  // metrics_over_time.png
+/// metrics_over_time.png: each metric per written frame and layer.
+void write_metrics_plot(const RunEvaluation& ev) {
+  const fs::path& out = ev.out_dir;
+  const bool near = ev.near_radius_m >= 0.0;
   struct Panel {
     const char* title;
     const char* y_label;
@@ -601,18 +619,11 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
               ev.near_sums);
   }
   write_png(out / "metrics_over_time.png", tile_images(charts, 2));
+}
 
-  if (!options.write_report) return;
-  HtmlPage page;
-  const fs::path run_name = options.run_dir.lexically_normal().filename().empty()
-                                ? options.run_dir.lexically_normal().parent_path().filename()
-                                : options.run_dir.lexically_normal().filename();
-  page.title = "hazmap evaluation: " + run_name.string();
-  page.subtitle = "run " + options.run_dir.string() + " | sequence " +
-                  options.sequence_dir.string() + " | " + std::to_string(ev.frames.size()) +
-                  " frames | map frame: " +
-                  (ev.used_true_poses ? "drifted poses, ground truth placed with poses_true.txt"
-                                      : "true poses");
+/// The report's pooled summary table, one row per layer.
+HtmlSection summary_section(const RunEvaluation& ev) {
+  const bool near = ev.near_radius_m >= 0.0;
   HtmlSection summary;
   summary.heading = "Summary per layer (SPEC 10, pooled over frames)";
   summary.text =
@@ -661,53 +672,75 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
     }
   }
   summary.tables.push_back(table);
-  page.sections.push_back(summary);
-  if (seen) {
-    HtmlSection section;
-    section.heading = "Seen cells: does the map see? (pooled over frames)";
-    section.text =
-        "Over the ground-truth pixels the left camera has seen so far (a depth pixel within "
-        "stereo.z_max fell in them, in this or an earlier frame)" +
-        std::string(near ? ", within " + fmt(ev.near_radius_m, "%g") + " m of the rover" : "") +
-        ", inside each map's window: what the map calls them. Free = no obstacle; obstacle = "
-        "at least h_min high; tall = at least 2 h_min. The footprint map is scored against "
-        "obstacles dilated by the footprint radius, over pixels whose whole footprint disc "
-        "was seen. Reasons: of the free pixels left unknown, the share for which each reason "
-        "held (any) and was the only one (sole); \"unrecorded\": the run wrote no "
-        "L<i>_unknown_reason grids (output.unknown_reasons).";
-    const std::vector<SeenSums>& pooled = near ? ev.near_seen_pooled : ev.seen_pooled;
-    HtmlTable t;
-    t.id = "seen";
-    t.header = {"layer", "free seen [m2]", "free -> traversable [%]", "free -> unknown [%]",
-                "free -> hazard [%]", "obstacle seen [m2]", "obstacle -> hazard [%]",
-                "obstacle -> unknown [%]", "obstacle -> traversable [%]",
-                "tall obstacle -> hazard [%]"};
-    HtmlTable r;
-    r.id = "unknown_reasons";
-    r.header = {"layer"};
-    for (const char* name : kUnknownReasonNames) r.header.push_back(std::string(name) + " any / sole [%]");
-    r.header.push_back("unrecorded [%]");
-    for (size_t l = 0; l < ev.layers.size(); ++l) {
-      const SeenSums& p = pooled[l];
-      t.rows.push_back({ev.layers[l].name, fmt(p.area_m2(kTruthFree), "%.3f"),
-                        pct(p.fraction(kTruthFree, 1)), pct(p.fraction(kTruthFree, 0)),
-                        pct(p.fraction(kTruthFree, 2)), fmt(p.area_m2(kTruthHazard), "%.4f"),
-                        pct(p.fraction(kTruthHazard, 2)), pct(p.fraction(kTruthHazard, 0)),
-                        pct(p.fraction(kTruthHazard, 1)), pct(p.fraction(kTruthTall, 2))});
-      const std::size_t unknown = p.count[kTruthFree][0];
-      const auto share = [&](std::size_t n) {
-        return unknown == 0 ? std::string("-") : pct(static_cast<double>(n) / unknown);
-      };
-      r.rows.push_back({ev.layers[l].name});
-      for (int b = 0; b < kUnknownReasonCount; ++b)
-        r.rows.back().push_back(share(p.reason_any[kTruthFree][b]) + " / " +
-                                share(p.reason_sole[kTruthFree][b]));
-      r.rows.back().push_back(share(p.reason_unrecorded[kTruthFree]));
-    }
-    section.tables.push_back(t);
-    section.tables.push_back(r);
-    page.sections.push_back(section);
+  return summary;
+}
+
+/// The report's seen-cells section: what the map calls the pixels the camera has seen.
+HtmlSection seen_section(const RunEvaluation& ev) {
+  const bool near = ev.near_radius_m >= 0.0;
+  HtmlSection section;
+  section.heading = "Seen cells: does the map see? (pooled over frames)";
+  section.text =
+      "Over the ground-truth pixels the left camera has seen so far (a depth pixel within "
+      "stereo.z_max fell in them, in this or an earlier frame)" +
+      std::string(near ? ", within " + fmt(ev.near_radius_m, "%g") + " m of the rover" : "") +
+      ", inside each map's window: what the map calls them. Free = no obstacle; obstacle = "
+      "at least h_min high; tall = at least 2 h_min. The footprint map is scored against "
+      "obstacles dilated by the footprint radius, over pixels whose whole footprint disc "
+      "was seen. Reasons: of the free pixels left unknown, the share for which each reason "
+      "held (any) and was the only one (sole); \"unrecorded\": the run wrote no "
+      "L<i>_unknown_reason grids (output.unknown_reasons).";
+  const std::vector<SeenSums>& pooled = near ? ev.near_seen_pooled : ev.seen_pooled;
+  HtmlTable t;
+  t.id = "seen";
+  t.header = {"layer", "free seen [m2]", "free -> traversable [%]", "free -> unknown [%]",
+              "free -> hazard [%]", "obstacle seen [m2]", "obstacle -> hazard [%]",
+              "obstacle -> unknown [%]", "obstacle -> traversable [%]",
+              "tall obstacle -> hazard [%]"};
+  HtmlTable r;
+  r.id = "unknown_reasons";
+  r.header = {"layer"};
+  for (const char* name : kUnknownReasonNames)
+    r.header.push_back(std::string(name) + " any / sole [%]");
+  r.header.push_back("unrecorded [%]");
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const SeenSums& p = pooled[l];
+    t.rows.push_back({ev.layers[l].name, fmt(p.area_m2(kTruthFree), "%.3f"),
+                      pct(p.fraction(kTruthFree, 1)), pct(p.fraction(kTruthFree, 0)),
+                      pct(p.fraction(kTruthFree, 2)), fmt(p.area_m2(kTruthHazard), "%.4f"),
+                      pct(p.fraction(kTruthHazard, 2)), pct(p.fraction(kTruthHazard, 0)),
+                      pct(p.fraction(kTruthHazard, 1)), pct(p.fraction(kTruthTall, 2))});
+    const std::size_t unknown = p.count[kTruthFree][0];
+    const auto share = [&](std::size_t n) {
+      return unknown == 0 ? std::string("-") : pct(static_cast<double>(n) / unknown);
+    };
+    r.rows.push_back({ev.layers[l].name});
+    for (int b = 0; b < kUnknownReasonCount; ++b)
+      r.rows.back().push_back(share(p.reason_any[kTruthFree][b]) + " / " +
+                              share(p.reason_sole[kTruthFree][b]));
+    r.rows.back().push_back(share(p.reason_unrecorded[kTruthFree]));
   }
+  section.tables.push_back(t);
+  section.tables.push_back(r);
+  return section;
+}
+
+/// report.html: the tables, the plot, the error maps and the frame viewer.
+void write_report(const EvaluationOptions& options, const RunEvaluation& ev,
+                  const std::vector<std::pair<std::string, fs::path>>& error_pngs) {
+  const fs::path& out = ev.out_dir;
+  HtmlPage page;
+  const fs::path run_name = options.run_dir.lexically_normal().filename().empty()
+                                ? options.run_dir.lexically_normal().parent_path().filename()
+                                : options.run_dir.lexically_normal().filename();
+  page.title = "hazmap evaluation: " + run_name.string();
+  page.subtitle = "run " + options.run_dir.string() + " | sequence " +
+                  options.sequence_dir.string() + " | " + std::to_string(ev.frames.size()) +
+                  " frames | map frame: " +
+                  (ev.used_true_poses ? "drifted poses, ground truth placed with poses_true.txt"
+                                      : "true poses");
+  page.sections.push_back(summary_section(ev));
+  if (ev.seen_enabled) page.sections.push_back(seen_section(ev));
   HtmlSection over_time;
   over_time.heading = "Metrics over time";
   over_time.figures.push_back({"metrics_over_time.png", "each metric per written frame and layer"});
@@ -721,23 +754,35 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   page.sections.push_back(errors);
   // Frame viewer: the mosaics of `hazmap run --mosaic`, else the fused hazard maps.
   for (size_t f = 0; f < ev.frames.size(); ++f) {
-    fs::path image = options.run_dir / "mosaic" / (ev.frames[f] + ".png");
-    if (!fs::exists(image)) image = options.run_dir / "frames" / ev.frames[f] / "fused_hazard.png";
+    fs::path image = run_layout::mosaic_png(options.run_dir, ev.frames[f]);
+    if (!fs::exists(image))
+      image = run_layout::frame_dir(options.run_dir, ev.frames[f]) /
+              run_layout::png_file(run_layout::kFusedHazard);
     if (!fs::exists(image)) continue;
     page.viewer_images.push_back(fs::relative(image, out).generic_string());
     page.viewer_labels.push_back("frame " + ev.frames[f]);
   }
-  page.viewer_heading = fs::exists(options.run_dir / "mosaic")
+  page.viewer_heading = fs::exists(options.run_dir / run_layout::kMosaicDir)
                             ? "Frame by frame (mosaic of every layer)"
                             : "Frame by frame (fused hazard map; run with --mosaic for all layers)";
   write_file_atomically(out / "report.html", render_html(page));
+}
+
+void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
+                   const std::vector<std::pair<std::string, fs::path>>& error_pngs,
+                   const Config& config) {
+  write_metrics_csv(ev);
+  write_summary_csv(ev);
+  write_metrics_json(options, ev, config);
+  write_metrics_plot(ev);
+  if (options.write_report) write_report(options, ev, error_pngs);
 }
 
 }  // namespace
 
 RunEvaluation evaluate_run(const EvaluationOptions& options) {
   RunEvaluation ev;
-  ev.out_dir = options.out_dir.empty() ? options.run_dir / "eval" : options.out_dir;
+  ev.out_dir = options.out_dir.empty() ? options.run_dir / run_layout::kEvalDir : options.out_dir;
   const YAML::Node summary = load_summary(options.run_dir);
   const Config config = config_from_summary(summary, options.run_dir);
   // Before anything else of the sequence is read: scoring one sequence's frames against
@@ -746,7 +791,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
                options.sequence_dir);
   const GroundTruth gt = read_ground_truth(options.sequence_dir);
 
-  const fs::path frames_dir = options.run_dir / "frames";
+  const fs::path frames_dir = options.run_dir / run_layout::kFramesDir;
   if (!fs::is_directory(frames_dir)) throw Error(frames_dir.string() + ": missing");
   for (const auto& entry : fs::directory_iterator(frames_dir))
     if (entry.is_directory()) ev.frames.push_back(entry.path().filename().string());
@@ -757,7 +802,8 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   bool with_footprint = true;
   size_t footprint_frames = 0;
   for (const std::string& f : ev.frames)
-    footprint_frames += fs::exists(frames_dir / f / "footprint_hazard.jdem");
+    footprint_frames +=
+        fs::exists(frames_dir / f / run_layout::jdem_file(run_layout::kFootprintHazard));
   if (footprint_frames < ev.frames.size()) {
     with_footprint = false;
     if (footprint_frames > 0)

@@ -14,6 +14,7 @@
 
 #include "io/json_writer.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/eval/embedded_grids.hpp"
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/eval/run_evaluation.hpp"
@@ -21,8 +22,9 @@
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/jdem.hpp"
+#include "hazmap/io/run_layout.hpp"
 #include "hazmap/io/sequence.hpp"
-#include "hazmap/pipeline/map_render.hpp"
+#include "hazmap/map/height_range.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 #include "viewer/viewer_assets.hpp"
 
@@ -77,12 +79,7 @@ std::string read_file(const fs::path& path) {
   return s.str();
 }
 
-std::string fmt(double v, const char* format) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string fmt(double v, const char* format) { return printf_finite(v, format, "-"); }
 
 std::string run_name(const fs::path& run_dir) {
   const fs::path n = run_dir.lexically_normal();
@@ -104,18 +101,18 @@ std::vector<MapSpec> map_specs(const Config& config) {
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     const LayerConfig& l = config.map.layers[i];
     MapSpec m;
-    m.id = "L" + std::to_string(i);
+    m.id = run_layout::layer_id(i);
     m.kind = "layer";
     m.rule = rule_name(l.rule);
     m.resolution_m = l.resolution_m;
     m.h_min_m = params.layers[i].h_min_m;
     m.title = m.id + "  " + fmt(l.resolution_m * 100, "%g") + " cm  " + m.rule;
-    m.files = {{"hazard", m.id + "_hazard", true, true},
-               {"height", m.id + "_height", false, true},
-               {"variance", m.id + "_variance", false, true}};
+    m.files = {{"hazard", run_layout::layer_stem(i, "hazard"), true, true},
+               {"height", run_layout::layer_stem(i, "height"), false, true},
+               {"variance", run_layout::layer_stem(i, "variance"), false, true}};
     if (rule_info(l.rule).has_plane)  // the cell planes (SPEC 6): sub-cell heights on hover
       for (const char* q : {"slope_x", "slope_y"})
-        m.files.push_back({q, m.id + "_" + q, false, false});
+        m.files.push_back({q, run_layout::layer_stem(i, q), false, false});
     maps.push_back(m);
   }
   if (maps.empty()) return maps;
@@ -125,15 +122,15 @@ std::vector<MapSpec> map_specs(const Config& config) {
   fused.resolution_m = finest;
   fused.h_min_m = params.critical_height_m;
   fused.title = "fused hazard  " + fmt(finest * 100, "%g") + " cm";
-  fused.files = {{"hazard", "fused_hazard", true, true},
-                 {"clearance", "fused_clearance", false, false}};
+  fused.files = {{"hazard", run_layout::kFusedHazard, true, true},
+                 {"clearance", run_layout::kFusedClearance, false, false}};
   maps.push_back(fused);
   MapSpec footprint;
   footprint.id = footprint.kind = footprint.rule = "footprint";
   footprint.resolution_m = finest;
   footprint.h_min_m = params.critical_height_m;
   footprint.title = "footprint  " + fmt(params.footprint_radius_m * 100, "%g") + " cm radius";
-  footprint.files = {{"hazard", "footprint_hazard", true, false}};
+  footprint.files = {{"hazard", run_layout::kFootprintHazard, true, false}};
   maps.push_back(footprint);
   return maps;
 }
@@ -559,7 +556,7 @@ std::vector<MapSpec> maps_present(const std::vector<MapSpec>& all, const fs::pat
 }
 
 RunContent read_run(const fs::path& run_dir) {
-  const fs::path summary_file = run_dir / "summary.json";
+  const fs::path summary_file = run_dir / run_layout::kSummaryJson;
   const Config config = read_run_config(run_dir);  // names summary.json when missing or bad
   if (!config.output.jdem)
     throw Error(summary_file.string() +
@@ -570,7 +567,7 @@ RunContent read_run(const fs::path& run_dir) {
 
   RunContent c;
   c.series = read_frame_series(summary, summary_file, all_maps);
-  const fs::path frames_dir = run_dir / "frames";
+  const fs::path frames_dir = run_dir / run_layout::kFramesDir;
   const std::vector<std::string> names = frame_folders(frames_dir);
   c.maps = maps_present(all_maps, frames_dir, names);
   c.clip_pct = config.output.png_height_clip_pct;
@@ -586,8 +583,8 @@ RunContent read_run(const fs::path& run_dir) {
         c.grid_bytes += a.count * (a.type == PackedType::float32 ? 4 : 1);
     }
   c.poses = frame_poses(c.series, summary, &c.pose_source);
-  c.eval = read_evaluation(run_dir / "eval");
-  c.log_problems = log_problems(run_dir / "run.log");
+  c.eval = read_evaluation(run_dir / run_layout::kEvalDir);
+  c.log_problems = log_problems(run_dir / run_layout::kRunLog);
 
   const auto str = [&](const char* key) {
     return summary[key] && summary[key].IsScalar() ? summary[key].as<std::string>() : std::string();
@@ -851,7 +848,8 @@ std::string render_run_viewer(const fs::path& run_dir, ViewerReport* report) {
 ViewerReport write_run_viewer(const ViewerOptions& options) {
   ViewerReport report;
   const std::string page = render_run_viewer(options.run_dir, &report);
-  report.out_file = options.out_file.empty() ? options.run_dir / "view.html" : options.out_file;
+  report.out_file =
+      options.out_file.empty() ? options.run_dir / run_layout::kViewHtml : options.out_file;
   write_file_atomically(report.out_file, page);
   return report;
 }

@@ -11,11 +11,13 @@
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/number_text.hpp"
 #include "hazmap/eval/html_report.hpp"
 #include "hazmap/eval/metrics.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/io/run_layout.hpp"
 
 namespace hazmap::eval {
 
@@ -39,12 +41,7 @@ double number_or_nan(const std::string& text) {
   return *end == '\0' ? v : kNaN;
 }
 
-std::string fmt(double v, const char* format) {
-  if (!std::isfinite(v)) return "-";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string fmt(double v, const char* format) { return printf_finite(v, format, "-"); }
 
 // One layer's pooled sums from a run's summary.csv (areas add across runs).
 struct LayerRow {
@@ -186,78 +183,9 @@ std::string csv_table(const std::vector<std::string>& header,
   return o.str();
 }
 
-}  // namespace
-
-std::vector<SweepEntry> read_sweep_manifest(const fs::path& sweep_dir) {
-  const fs::path path = sweep_dir / "sweep.tsv";
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": missing (write it with tools/sweep.sh)");
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split(line, '\t');
-  const std::vector<std::string> expected = {"experiment", "map", "scenario", "radius_m", "drift",
-                                             "run_dir"};
-  if (header != expected)
-    throw Error(path.string() + ":1: header must be 'experiment map scenario radius_m drift "
-                                "run_dir' (tab-separated)");
-  std::vector<SweepEntry> entries;
-  int line_no = 1;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> f = split(line, '\t');
-    if (f.size() != expected.size())
-      throw Error(path.string() + ":" + std::to_string(line_no) + ": expected 6 tab-separated fields");
-    SweepEntry e;
-    e.experiment = f[0];
-    e.map = f[1];
-    e.scenario = f[2];
-    e.radius_m = number_or_nan(f[3]);
-    e.drift = number_or_nan(f[4]);
-    e.run_dir = fs::path(f[5]).is_absolute() ? fs::path(f[5]) : sweep_dir / f[5];
-    entries.push_back(e);
-  }
-  return entries;
-}
-
-int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
-  const std::vector<SweepEntry> entries = read_sweep_manifest(sweep_dir);
-  fs::create_directories(out_dir);
-  std::map<std::string, Grid2> sizes;    // per map, key radius
-  std::map<std::string, Grid2> craters;  // per map, key 0
-  std::map<std::string, Grid2> drift;    // per map, key drift
-  std::vector<std::vector<std::string>> run_rows;
-  int evaluated = 0;
-  for (const SweepEntry& e : entries) {
-    const fs::path csv = e.run_dir / "eval" / "summary.csv";
-    const std::string rel_report =
-        fs::relative(e.run_dir / "eval" / "report.html", out_dir).generic_string();
-    if (!fs::exists(csv)) {
-      spdlog::warn("sweep: {} has no evaluation; left out", e.run_dir.string());
-      run_rows.push_back({e.experiment, e.map, e.scenario, fmt(e.radius_m * 100, "%g"),
-                          fmt(e.drift * 100, "%g"), "missing"});
-      continue;
-    }
-    const std::vector<LayerRow> rows = read_run_summary(csv);
-    ++evaluated;
-    run_rows.push_back({e.experiment, e.map, e.scenario, fmt(e.radius_m * 100, "%g"),
-                        fmt(e.drift * 100, "%g"), rel_report});
-    if (e.experiment == "sizes") add_run(sizes[e.map], e.radius_m, rows);
-    else if (e.experiment == "craters") add_run(craters[e.map], 0.0, rows);
-    else if (e.experiment == "drift") add_run(drift[e.map], e.drift, rows);
-    else spdlog::warn("sweep: unknown experiment '{}' in sweep.tsv", e.experiment);
-  }
-  if (evaluated == 0) throw Error((sweep_dir / "sweep.tsv").string() + ": no run has an evaluation");
-
-  std::ostringstream md;
-  HtmlPage page;
-  page.title = "hazmap sweep: " + sweep_dir.lexically_normal().parent_path().filename().string();
-  if (sweep_dir.lexically_normal().filename() != "")
-    page.title = "hazmap sweep: " + sweep_dir.lexically_normal().filename().string();
-  page.subtitle = std::to_string(evaluated) + " evaluated runs from " + sweep_dir.string() +
-                  ". Fractions pooled over every written frame of a run.";
-
-  // --- obstacle sizes -------------------------------------------------------------------
+/// Obstacle sizes: the smallest swept radius each layer detects (detectable_size.csv).
+void add_sizes_section(const std::map<std::string, Grid2>& sizes, const fs::path& out_dir,
+                       std::ostringstream& md, HtmlPage& page) {
   std::vector<std::vector<std::string>> detect_rows;
   for (const auto& [map_name, g] : sizes) {
     std::vector<std::string> cols;
@@ -345,8 +273,11 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
     s.tables.push_back({"detectable", "", header, detect_rows, {}});
     page.sections.push_back(s);
   }
+}
 
-  // --- height precision (craters) --------------------------------------------------------
+/// Height precision on the craters scenario: RMS by cell size, CCM at 2r against PWC at r.
+void add_craters_section(const std::map<std::string, Grid2>& craters, const fs::path& out_dir,
+                         std::ostringstream& md, HtmlPage& page) {
   if (!craters.empty()) {
     LineChart chart;
     chart.title = "height RMS by cell size (craters scenario)";
@@ -406,8 +337,11 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
     }
     page.sections.push_back(s);
   }
+}
 
-  // --- pose drift --------------------------------------------------------------------------
+/// Pose drift on the sine scenario: missed obstacles and false alarms (drift.csv, plots).
+void add_drift_section(const std::map<std::string, Grid2>& drift, const fs::path& out_dir,
+                       std::ostringstream& md, HtmlPage& page) {
   if (!drift.empty()) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& [map_name, g] : drift) {
@@ -460,6 +394,82 @@ int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
     }
     page.sections.push_back(s);
   }
+}
+
+}  // namespace
+
+std::vector<SweepEntry> read_sweep_manifest(const fs::path& sweep_dir) {
+  const fs::path path = sweep_dir / "sweep.tsv";
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": missing (write it with tools/sweep.sh)");
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line, '\t');
+  const std::vector<std::string> expected = {"experiment", "map", "scenario", "radius_m", "drift",
+                                             "run_dir"};
+  if (header != expected)
+    throw Error(path.string() + ":1: header must be 'experiment map scenario radius_m drift "
+                                "run_dir' (tab-separated)");
+  std::vector<SweepEntry> entries;
+  int line_no = 1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> f = split(line, '\t');
+    if (f.size() != expected.size())
+      throw Error(path.string() + ":" + std::to_string(line_no) + ": expected 6 tab-separated fields");
+    SweepEntry e;
+    e.experiment = f[0];
+    e.map = f[1];
+    e.scenario = f[2];
+    e.radius_m = number_or_nan(f[3]);
+    e.drift = number_or_nan(f[4]);
+    e.run_dir = fs::path(f[5]).is_absolute() ? fs::path(f[5]) : sweep_dir / f[5];
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+int summarize_sweep(const fs::path& sweep_dir, const fs::path& out_dir) {
+  const std::vector<SweepEntry> entries = read_sweep_manifest(sweep_dir);
+  fs::create_directories(out_dir);
+  std::map<std::string, Grid2> sizes;    // per map, key radius
+  std::map<std::string, Grid2> craters;  // per map, key 0
+  std::map<std::string, Grid2> drift;    // per map, key drift
+  std::vector<std::vector<std::string>> run_rows;
+  int evaluated = 0;
+  for (const SweepEntry& e : entries) {
+    const fs::path csv = e.run_dir / run_layout::kEvalDir / "summary.csv";
+    const std::string rel_report =
+        fs::relative(e.run_dir / run_layout::kEvalDir / "report.html", out_dir).generic_string();
+    if (!fs::exists(csv)) {
+      spdlog::warn("sweep: {} has no evaluation; left out", e.run_dir.string());
+      run_rows.push_back({e.experiment, e.map, e.scenario, fmt(e.radius_m * 100, "%g"),
+                          fmt(e.drift * 100, "%g"), "missing"});
+      continue;
+    }
+    const std::vector<LayerRow> rows = read_run_summary(csv);
+    ++evaluated;
+    run_rows.push_back({e.experiment, e.map, e.scenario, fmt(e.radius_m * 100, "%g"),
+                        fmt(e.drift * 100, "%g"), rel_report});
+    if (e.experiment == "sizes") add_run(sizes[e.map], e.radius_m, rows);
+    else if (e.experiment == "craters") add_run(craters[e.map], 0.0, rows);
+    else if (e.experiment == "drift") add_run(drift[e.map], e.drift, rows);
+    else spdlog::warn("sweep: unknown experiment '{}' in sweep.tsv", e.experiment);
+  }
+  if (evaluated == 0) throw Error((sweep_dir / "sweep.tsv").string() + ": no run has an evaluation");
+
+  std::ostringstream md;
+  HtmlPage page;
+  page.title = "hazmap sweep: " + sweep_dir.lexically_normal().parent_path().filename().string();
+  if (sweep_dir.lexically_normal().filename() != "")
+    page.title = "hazmap sweep: " + sweep_dir.lexically_normal().filename().string();
+  page.subtitle = std::to_string(evaluated) + " evaluated runs from " + sweep_dir.string() +
+                  ". Fractions pooled over every written frame of a run.";
+
+  add_sizes_section(sizes, out_dir, md, page);
+  add_craters_section(craters, out_dir, md, page);
+  add_drift_section(drift, out_dir, md, page);
 
   HtmlSection runs;
   runs.heading = "Runs";

@@ -12,6 +12,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/atomic_file.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "yaml_access.hpp"
 
 namespace fs = std::filesystem;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/images.hpp"
 
 namespace fs = std::filesystem;

@@ -7,17 +7,13 @@
 #include <opencv2/calib3d.hpp>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 #include "hazmap/io/images.hpp"
-#include "hazmap/sim/simulate.hpp"
 
 namespace hazmap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// Median of `v` (upper median for an even count: no averaging of two samples, which
 /// under load may come from different regimes). `v` is reordered.
@@ -41,19 +37,6 @@ std::vector<BenchFrame> read_bench_frames(const Sequence& sequence, int max_fram
     frames.push_back({f.name, read_image(f.left_path), read_image(f.right_path), f.pose});
   }
   return frames;
-}
-
-double render_bench_sequence(const std::filesystem::path& out_dir, int frames, double scale,
-                             std::uint64_t seed) {
-  sim::SimulationOptions options;
-  options.scenario = "rocks";
-  options.frames = frames;
-  options.scale = scale;
-  options.seed = seed;
-  // The images are read once and decoded, never timed: fast PNG encoding saves seconds
-  // of rendering at full resolution.
-  options.png_compression = 1;
-  return sim::simulate_sequence(options, out_dir).render_seconds;
 }
 
 FrameBenchResult run_frame_bench(const Config& config, const StereoCalibration& calibration,

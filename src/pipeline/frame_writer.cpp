@@ -5,17 +5,15 @@
 #include <system_error>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/io/run_layout.hpp"
 
 namespace hazmap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 /// CPU time of the calling thread, ms.
 double thread_cpu_ms() {
@@ -138,7 +136,7 @@ void FrameWriter::run() {
 
 void FrameWriter::write_frame(const std::filesystem::path& out_dir, const OutputConfig& output,
                               const FrameOutputs& frame) {
-  const std::filesystem::path dir = out_dir / "frames" / frame.frame_name;
+  const std::filesystem::path dir = run_layout::frame_dir(out_dir, frame.frame_name);
   const std::filesystem::path staging = staging_folder_name(dir);
   try {
     write_frame_outputs(staging, frame, output);
@@ -155,7 +153,8 @@ void FrameWriter::write_frame(const std::filesystem::path& out_dir, const Output
     throw Error(message);
   }
   if (output.mosaic)
-    write_png(out_dir / "mosaic" / (frame.frame_name + ".png"), render_mosaic(frame, output.png_height_clip_pct));
+    write_png(run_layout::mosaic_png(out_dir, frame.frame_name),
+              render_mosaic(frame, output.png_height_clip_pct));
 }
 
 }  // namespace hazmap

@@ -9,6 +9,7 @@
 #include "hazmap/io/geotiff.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/rules/rule_registry.hpp"
+#include "hazmap/io/run_layout.hpp"
 
 namespace hazmap {
 namespace {
@@ -28,7 +29,7 @@ RobotMarker frame_robot(const FrameOutputs& frame) {
 
 /// "L0 kalman": the panel's name; its footer adds the resolution and extent.
 std::string layer_title(const LayerOutputs& layer, size_t index) {
-  return "L" + std::to_string(index) + " " + rule_name(layer.rule);
+  return run_layout::layer_id(index) + " " + rule_name(layer.rule);
 }
 
 /// Copy assignment keeps `to`'s buffer when it is large enough: no allocation per frame.
@@ -165,45 +166,54 @@ cv::Mat render_mosaic(const FrameOutputs& frame, double png_height_clip_pct) {
 
 void write_frame_outputs(const std::filesystem::path& dir, const FrameOutputs& frame,
                          const OutputConfig& output) {
+  using run_layout::layer_stem;
+  using run_layout::png_file;
   const RobotMarker robot = frame_robot(frame);
   const int size = output.png_min_size;
   const std::string& name = frame.frame_name;
   for (size_t i = 0; i < frame.layers.size(); ++i) {
-    const std::string prefix = "L" + std::to_string(i) + "_";
     const LayerOutputs& v = frame.layers[i];
     if (output.png) {
       const std::string title = layer_title(v, i);
-      write_png(dir / (prefix + "hazard.png"), render_hazard(v.hazard, size, robot, title + " hazard"));
-      write_png(dir / (prefix + "height.png"),
+      write_png(dir / png_file(layer_stem(i, "hazard")),
+                render_hazard(v.hazard, size, robot, title + " hazard"));
+      write_png(dir / png_file(layer_stem(i, "height")),
                 render_height(v.height, size, robot, title, output.png_height_clip_pct));
     }
     if (output.jdem) {
-      write_grid(dir, prefix + "height", to_jdem(v.height, "height", "m", name), output);
+      write_grid(dir, layer_stem(i, "height"), to_jdem(v.height, "height", "m", name), output);
       JdemGrid variance = to_jdem(v.variance, "variance", "m^2", name);
       const double extra = v.published_extra_variance_m2;
-      for (float& value : variance.values) value = static_cast<float>(value + extra);  // NaN stays NaN
-      write_grid(dir, prefix + "variance", variance, output);
-      write_grid(dir, prefix + "hazard", to_jdem(v.hazard, "hazard", "class", name), output);
+      for (float& value : variance.values)
+        value = static_cast<float>(value + extra);  // NaN stays NaN
+      write_grid(dir, layer_stem(i, "variance"), variance, output);
+      write_grid(dir, layer_stem(i, "hazard"), to_jdem(v.hazard, "hazard", "class", name), output);
       if (v.slope_x.rows > 0) {  // CCM: h + slope_x dx + slope_y dy is the sub-cell surface
-        write_grid(dir, prefix + "slope_x", to_jdem(v.slope_x, "slope_x", "m/m", name), output);
-        write_grid(dir, prefix + "slope_y", to_jdem(v.slope_y, "slope_y", "m/m", name), output);
+        write_grid(dir, layer_stem(i, "slope_x"), to_jdem(v.slope_x, "slope_x", "m/m", name),
+                   output);
+        write_grid(dir, layer_stem(i, "slope_y"), to_jdem(v.slope_y, "slope_y", "m/m", name),
+                   output);
       }
       if (v.unknown_reason.rows > 0)
-        write_grid(dir, prefix + "unknown_reason",
+        write_grid(dir, layer_stem(i, "unknown_reason"),
                    to_jdem(v.unknown_reason, "unknown_reason", "bits", name), output);
     }
   }
   if (output.png) {
-    write_png(dir / "fused_hazard.png", render_hazard(frame.fused, size, robot, "fused hazard"));
-    write_png(dir / "footprint_hazard.png",
+    write_png(dir / png_file(run_layout::kFusedHazard),
+              render_hazard(frame.fused, size, robot, "fused hazard"));
+    write_png(dir / png_file(run_layout::kFootprintHazard),
               render_hazard(frame.footprint, size, robot, "footprint hazard"));
   }
   if (output.jdem) {
-    write_grid(dir, "fused_hazard", to_jdem(frame.fused, "hazard", "class", name), output);
-    write_grid(dir, "fused_clearance", to_jdem(frame.clearance, "clearance", "m", name), output);
-    write_grid(dir, "footprint_hazard", to_jdem(frame.footprint, "hazard", "class", name), output);
-    write_grid(dir, "hazard_distance", to_jdem(frame.hazard_distance, "distance", "m", name),
+    write_grid(dir, run_layout::kFusedHazard, to_jdem(frame.fused, "hazard", "class", name),
                output);
+    write_grid(dir, run_layout::kFusedClearance, to_jdem(frame.clearance, "clearance", "m", name),
+               output);
+    write_grid(dir, run_layout::kFootprintHazard, to_jdem(frame.footprint, "hazard", "class", name),
+               output);
+    write_grid(dir, run_layout::kHazardDistance,
+               to_jdem(frame.hazard_distance, "distance", "m", name), output);
   }
 }
 

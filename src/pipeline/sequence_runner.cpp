@@ -7,9 +7,11 @@
 #include <spdlog/spdlog.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 #include "hazmap/core/progress.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/images.hpp"
+#include "hazmap/io/run_layout.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/output_writer.hpp"
@@ -152,7 +154,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.key("gated").begin_array();  // per layer, SPEC 4
     for (size_t i = 0; i < f.layer_gates.size(); ++i) {
       j.begin_object();
-      j.key("layer").value("L" + std::to_string(i));
+      j.key("layer").value(run_layout::layer_id(i));
       j.key("std").value(f.layer_gates[i].std_gate);
       j.key("consistency").value(f.layer_gates[i].consistency_gate);
       j.end_object();
@@ -173,7 +175,7 @@ void write_summary(const std::filesystem::path& path, const Config& config,
       for (size_t i = 0; i < f.areas.size(); ++i) {
         j.begin_object();
         const size_t layers = f.areas.size() - 2;  // then the fused and footprint maps
-        j.key("layer").value(i < layers        ? "L" + std::to_string(i)
+        j.key("layer").value(i < layers        ? run_layout::layer_id(i)
                              : i == layers ? std::string("fused")
                                            : std::string("footprint"));
         j.key("hazard").value(f.areas[i].hazard_m2);
@@ -260,9 +262,9 @@ RunResult SequenceRun::run() {
     for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
     rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
     rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
-    rec.write_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+    rec.write_ms = ms_since(t);
     rec.written = true;
-    result.written.push_back(options.out_dir / "frames" / frame.name);
+    result.written.push_back(run_layout::frame_dir(options.out_dir, frame.name));
     ++result.frames_written;
   };
 
@@ -283,7 +285,7 @@ RunResult SequenceRun::run() {
       const auto t = Clock::now();
       const cv::Mat left = read_image(frame.left_path);
       const cv::Mat right = read_image(frame.right_path);
-      rec.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+      rec.read_ms = ms_since(t);
 
       FrameReport report;
       try {
@@ -367,7 +369,8 @@ RunResult SequenceRun::run() {
   state.finished = result.stop_signal == 0;
   state.stop_signal = result.stop_signal;
   state.writer = writer.stats();
-  write_summary(options.out_dir / "summary.json", config, sequence_, options, records, n, state);
+  write_summary(options.out_dir / run_layout::kSummaryJson, config, sequence_, options, records, n,
+                state);
   return result;
 }
 

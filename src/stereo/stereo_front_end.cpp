@@ -1,6 +1,7 @@
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 
 #include <chrono>
 
@@ -13,10 +14,6 @@ namespace hazmap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 }  // namespace
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hazmap/camera/stereo_calibration.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/pipeline/rig_geometry.hpp"
 #include "test_support.hpp"

@@ -18,6 +18,7 @@
 #include "hazmap/camera/rectifier.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/sim/simulate.hpp"

@@ -11,6 +11,7 @@
 
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/opencv_calibration.hpp"
 #include "test_support.hpp"
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "test_support.hpp"
 
 namespace hazmap {

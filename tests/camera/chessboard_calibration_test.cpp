@@ -14,6 +14,8 @@
 
 #include "hazmap/camera/chessboard_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
+#include "hazmap/io/chessboard_pairs.hpp"
 #include "hazmap/io/images.hpp"
 #include "test_support.hpp"
 

@@ -10,6 +10,7 @@
 
 #include "hazmap/camera/rectifier.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
 #include "test_support.hpp"

@@ -20,6 +20,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/eval/grid_checks.hpp"
 #include "hazmap/eval/run_evaluation.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "test_support.hpp"

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hazmap/camera/chessboard_calibration.hpp"
+#include "hazmap/io/chessboard_pairs.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/euroc.hpp"
 #include "hazmap/io/images.hpp"

@@ -19,6 +19,7 @@
 
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/jdem.hpp"
 #include "hazmap/io/sequence.hpp"
 #include "sim_fixtures.hpp"

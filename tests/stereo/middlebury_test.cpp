@@ -16,7 +16,7 @@
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/stereo/disparity.hpp"
-#include "hazmap/stereo/grey_pair.hpp"
+#include "hazmap/camera/grey_pair.hpp"
 #include "test_support.hpp"
 
 namespace hazmap {

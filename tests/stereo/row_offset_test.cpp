@@ -12,6 +12,7 @@
 #include "hazmap/camera/rectifier.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
 #include "hazmap/core/error.hpp"
+#include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/config.hpp"
 #include "hazmap/io/images.hpp"
 #include "hazmap/io/sequence.hpp"

@@ -4,9 +4,9 @@
 // per camera for the starting intrinsics, then cv::stereoCalibrate refining intrinsics
 // and extrinsics together with OpenCV's 5-parameter distortion model (k1 k2 p1 p2 k3).
 // Board geometry: `inner_corners` = corners per row x per column ("9x6"), squares of
-// `square_m` metres, so T comes out in metres.
+// `square_m` metres, so T comes out in metres. Calibrating from a folder of image pairs:
+// hazmap/io/chessboard_pairs.hpp.
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -23,19 +23,6 @@ struct ChessboardOptions {
   /// cv::cornerSubPix half window [px]: (2 n + 1)^2 pixels, smaller than a square.
   int subpix_half_window_px = 11;
 };
-
-/// Image pair of one board pose.
-struct ChessboardPairFiles {
-  std::string name;  ///< "01" for left01.jpg/right01.jpg, the stem for left/<stem>.png
-  std::filesystem::path left;
-  std::filesystem::path right;
-};
-
-/// Pairs in `dir`: either `left/<stem>.<ext>` with `right/<stem>.<ext>`, or
-/// `left<tag>.<ext>` with `right<tag>.<ext>` (OpenCV's sample naming); ext one of png,
-/// jpg, jpeg, bmp, tif, tiff, pgm, ppm. Sorted by name; a left image without its right
-/// partner is skipped. Throws Error if `dir` holds no pair.
-std::vector<ChessboardPairFiles> find_chessboard_pairs(const std::filesystem::path& dir);
 
 /// Inner corners of the board in an 8-bit grey image, refined to sub-pixel, row by row.
 /// Returns false (and leaves `corners_px` empty) when the whole board is not found.
@@ -62,11 +49,6 @@ struct ChessboardCalibration {
   std::vector<ChessboardView> views;  ///< views used
   std::vector<std::string> rejected;  ///< pairs where a board was not found in both images
 };
-
-/// Detects the board in every pair of `dir` and calibrates. Throws Error when images
-/// differ in size, or fewer than 3 pairs show the whole board in both images.
-ChessboardCalibration calibrate_chessboard_pairs(const std::filesystem::path& dir,
-                                                 const ChessboardOptions& options);
 
 /// Calibrates from detected views (image size in pixels). Throws Error as above.
 ChessboardCalibration calibrate_stereo(const std::vector<ChessboardView>& views,

@@ -1,9 +1,9 @@
 #pragma once
 // Stereo calibration (SPEC 2): intrinsics and distortion of both cameras, the pose of
 // the right camera relative to the left (x_right = R x_left + T) and the pose of the
-// left camera in the body frame.
+// left camera in the body frame. Reading and writing calibration files:
+// hazmap/io/calibration_file.hpp.
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -57,24 +57,6 @@ struct StereoCalibration {
 /// Fills K, D, R, T and T_B_C of `calibration` from its two models and T_B_M (see
 /// StereoCalibration::models). Throws Error prefixed by `source` on an unusable model.
 void derive_from_models(StereoCalibration& calibration, const std::string& source);
-
-/// Reads our calibration.yaml (SPEC 2). A file in OpenCV's FileStorage layout (it starts
-/// with `%YAML:1.0` or `<?xml`; keys M1 D1 M2 D2 R T and the image size) is read with
-/// load_opencv_stereo_calibration (hazmap/io/opencv_calibration.hpp) instead. Throws
-/// Error naming the file, line and key.
-StereoCalibration load_stereo_calibration(const std::filesystem::path& path);
-
-/// Our calibration.yaml text for `calibration` (SPEC 2): numbers with 17 significant
-/// digits, so loading it gives back the same values; T_body_left as translation and
-/// quaternion [qx, qy, qz, qw]. `comment` (may hold several lines) is written first,
-/// each line prefixed with "# ".
-std::string format_stereo_calibration(const StereoCalibration& calibration,
-                                      const std::string& comment = "");
-
-/// Validates and writes format_stereo_calibration() atomically. Throws Error.
-void save_stereo_calibration(const std::filesystem::path& path,
-                             const StereoCalibration& calibration,
-                             const std::string& comment = "");
 
 /// Checks internal consistency (positive focal lengths, non-zero baseline, a rotation
 /// for R, rectified files with zero distortion); throws Error prefixed by `source`.

@@ -1,161 +1,25 @@
 #pragma once
 // The run configuration (SPEC 13): nested structs with defaults, loaded from YAML plus
 // `--set key=value` overrides, validated in one place. Unknown keys, wrong types and
-// impossible values are errors that name the key.
+// impossible values are errors that name the key. Each stage declares its own part
+// (core/core_config.hpp: map, rules, hazard; stereo/stereo_config.hpp: stereo, sensor);
+// this header adds the pipeline's and the output's parts and aggregates them.
 
-#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "hazmap/core/core_config.hpp"
 #include "hazmap/core/enum_names.hpp"
-#include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
-
-/// stereo.matcher: cv::StereoBM or cv::StereoSGBM.
-enum class StereoMatcher { bm, sgbm, c2f };
-template <>
-struct EnumNames<StereoMatcher> {
-  static constexpr const char* names[] = {"bm", "sgbm", "c2f"};
-};
-
-/// stereo.sgbm_mode: cv::StereoSGBM's MODE_SGBM, MODE_HH, MODE_SGBM_3WAY, MODE_HH4.
-enum class SgbmMode { sgbm, hh, sgbm_3way, hh4 };
-template <>
-struct EnumNames<SgbmMode> {
-  static constexpr const char* names[] = {"sgbm", "hh", "sgbm_3way", "hh4"};
-};
-
-/// stereo.pre_filter_type: StereoBM's PREFILTER_NORMALIZED_RESPONSE or PREFILTER_XSOBEL.
-enum class PreFilterType { normalized_response, xsobel };
-template <>
-struct EnumNames<PreFilterType> {
-  static constexpr const char* names[] = {"normalized_response", "xsobel"};
-};
-
-/// stereo.search (SPEC 3.4): one disparity range for the image, or per-strip ground bands.
-enum class DisparitySearch { full, ground_band };
-template <>
-struct EnumNames<DisparitySearch> {
-  static constexpr const char* names[] = {"full", "ground_band"};
-};
-
-/// sensor.model (SPEC 4): the thesis' axis-aligned errors or first-order ray propagation.
-template <>
-struct EnumNames<SensorModel> {
-  static constexpr const char* names[] = {"axis", "ray"};
-};
 
 /// output.format: the grid files written.
 enum class GridFormat { jdem, geotiff, both };
 template <>
 struct EnumNames<GridFormat> {
   static constexpr const char* names[] = {"jdem", "geotiff", "both"};
-};
-
-/// stereo.row_offset_px: rows the rectified right image moves down to agree with the left
-/// (y_left - y_right of the rectified pair, stereo/row_offset.hpp), or `auto`: measured
-/// once from the first frames.
-struct RowOffsetSetting {
-  bool automatic = false;
-  double px = 0.0;
-};
-
-/// Largest stereo.stride validate() accepts (pixels).
-constexpr int kMaxStride = 4096;
-
-/// `stereo.matcher: c2f` (c2f_matcher.hpp): census cost, semi-global aggregation, coarse to
-/// fine over an image pyramid.
-struct C2fConfig {
-  int levels = 3;          ///< pyramid levels; the full-range search runs at 1/2^(levels-1)
-  int radius = 2;          ///< finer levels search +- radius px around the upsampled seed
-  int census_width = 9;    ///< census window (odd; width x height - 1 <= 64 bits)
-  int census_height = 7;
-  int p1 = 32;             ///< SGM penalty for a 1 px disparity step (census bits)
-  int p2 = 200;            ///< SGM penalty for a larger step (census bits), >= p1
-  int paths = 4;           ///< SGM paths: 4 (rows and columns) or 8 (and diagonals)
-  int lr_max_diff = 1;     ///< left-right check at every level [px]; -1 off
-  int uniqueness = 5;      ///< coarse level: best cost < (100 - this)% of the second best
-  bool fill_unseeded = false;  ///< seed pixels without a coarse disparity from their row
-};
-
-struct StereoConfig {
-  StereoMatcher matcher = StereoMatcher::bm;
-  int num_disparities = 128;        ///< multiple of 16
-  int block_size = 11;              ///< odd
-  int min_disparity = 0;
-  int uniqueness_ratio = 10;
-  int texture_threshold = 10;       ///< StereoBM only
-  int pre_filter_cap = 31;
-  int speckle_window = 100;         ///< 0 disables the speckle filter
-  int speckle_range = 2;            ///< pixels (scaled x16 for StereoBM, SPEC 3)
-  int disp12_max_diff = -1;         ///< left-right consistency in px; -1 disables
-  int sgbm_p1 = 0;                  ///< 0: 8 * block_size^2
-  int sgbm_p2 = 0;                  ///< 0: 32 * block_size^2
-  SgbmMode sgbm_mode = SgbmMode::hh;
-  PreFilterType pre_filter_type = PreFilterType::normalized_response;  ///< StereoBM only
-  int pre_filter_size = 9;          ///< StereoBM normalized_response window: odd, 5..255
-  /// Significant bits of 16-bit input (10, 12, ...: the pair is scaled by 2^(8 - bits) to
-  /// 8 bit); 0 detects them per pair from the brighter image. Ignored for 8-bit input.
-  int input_bits = 0;
-  double rectify_alpha = 0.0;
-  int stride = 1;                   ///< use every stride-th pixel in u and v (<= kMaxStride)
-  /// Region of interest in the rectified left image, pixels: x, y, width, height.
-  /// width or height 0: the whole image. Pixels outside produce no points.
-  std::array<int, 4> roi_px{0, 0, 0, 0};
-  double z_min_m = 0.05;
-  double z_max_m = 10.0;
-  /// SPEC 3.3: points farther than this below the body's wheel plane (z_B = 0) are
-  /// mismatches and are dropped (counted); <= 0 disables the check.
-  double max_below_ground_m = 0.5;
-  /// Ours, with the check above: a point more than below_ground_tolerance below the wheel
-  /// plane seen along a ray that descends steeper than max_depression_slope_deg could only
-  /// be seen down a wall at least that steep right under the ray: a mismatch (ground or a
-  /// rock nearer than the search reaches). Dropped and counted with the above; the
-  /// slope >= 90 disables it, as does max_below_ground <= 0.
-  double below_ground_tolerance_m = 0.05;
-  double max_depression_slope_deg = 45.0;
-  /// Ours, also SPEC 3.3's impossible points: a pixel whose ray, on its way to the point,
-  /// passes more than occlusion_margin + 3 sigma below the terrain the map has already
-  /// published (the previous frame's heights and variances) sees that terrain, not the
-  /// point: a mismatch, dropped and counted. Typically a surface nearer than the disparity
-  /// search reaches, aliased to a smaller disparity, which puts the point far along its
-  /// ray, inside the rock it looked at. Rays are followed out to occlusion_reach times the
-  /// nearest depth the search reaches in the pixel's row, f B / (highest disparity
-  /// searched), which bounds the cost; 0 disables the check. Needs a map: `hazmap stereo`
-  /// and `hazmap check` run without it.
-  double occlusion_reach = 2.0;
-  double occlusion_margin_m = 0.01;
-  /// In the near field a ray must also stay above terrain not yet seen next to seen
-  /// terrain: a cell nobody knows counts as high as the highest known cell within this
-  /// distance [m], rounded up to whole cells of the finest layer (0: unseen cells block
-  /// nothing). Default: the smallest hazard's width (SPEC 11), the least an obstacle seen
-  /// up to its edge extends beyond it. The hidden far side of a rock the cameras pass
-  /// over is unseen, and it is nearer than the search reaches.
-  double occlusion_fill_m = 0.03;
-  /// Unsupported disparities (support_check.hpp): a pixel much nearer than most of what
-  /// lies within support_rows below it in its column floats and is dropped (counted);
-  /// 0 disables the check. Farther: disparity < d (1 - support_tolerance) - margin.
-  int support_rows = 0;
-  double support_tolerance = 0.25;
-  double support_margin_px = 1.0;
-  /// SPEC 3.4: `full` searches [min_disparity, min_disparity + num_disparities) in every
-  /// row; `ground_band` searches per horizontal strip only the disparities terrain can
-  /// produce there (ground_band.hpp), whatever num_disparities says.
-  DisparitySearch search = DisparitySearch::full;
-  double band_max_slope_deg = 30.0;  ///< ground_band: wheel plane tilted up to this [deg]
-  double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
-  double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
-  RowOffsetSetting row_offset;      ///< stereo.row_offset_px
-  C2fConfig c2f;
-};
-
-struct SensorConfig {
-  SensorModel model = SensorModel::axis;
-  double pointing_error_px = 0.5;
-  double disparity_error_px = 0.25;
 };
 
 struct PoseUncertaintyConfig {

@@ -3,10 +3,11 @@
 // binds, unit, help text and checks. Parsing (and with it `--set`), validation, the
 // resolved-configuration dump (to_yaml) and the README's reference table all walk these
 // tables. A key's default is its struct member's initialiser (read off Config{} /
-// LayerConfig{}), so there is one default per key and nothing to drift.
+// LayerConfig{}); the tables never repeat it (a key's default_note only comments on it).
 //
-// Adding a key: the struct member with its default (core/core_config.hpp or
-// io/config.hpp) and one line in src/io/config_schema.cpp (docs/config.md).
+// Adding a key: the struct member with its default (core/core_config.hpp,
+// stereo/stereo_config.hpp or io/config.hpp) and one line in src/io/config_schema.cpp
+// (docs/config.md).
 
 #include <array>
 #include <limits>

@@ -31,13 +31,6 @@ inline CellIndex cell_index(double x_m, double resolution_m) {
   return static_cast<CellIndex>(std::floor(x_m / resolution_m));
 }
 
-/// floor(v) as an integer without a libm call (the baseline x86-64 target has no
-/// roundsd); valid for |v| < 2^62.
-inline CellIndex fast_floor(double v) {
-  const auto i = static_cast<CellIndex>(v);  // truncates toward zero
-  return i - static_cast<CellIndex>(v < static_cast<double>(i));
-}
-
 /// W coordinate of the centre of cell i.
 inline double cell_center(CellIndex i, double resolution_m) {
   return (static_cast<double>(i) + 0.5) * resolution_m;

@@ -26,10 +26,6 @@ class PoseUncertainty {
   double added_variance(std::uint32_t updated_frame, double ox_m, double oy_m, double gx,
                         double gy) const;
 
-  std::uint32_t current_frame() const {
-    return static_cast<std::uint32_t>(cumulative_.empty() ? 0 : cumulative_.size() - 1);
-  }
-
  private:
   struct Sums {
     double xx = 0, yy = 0, zz = 0, yaw = 0;

@@ -6,8 +6,6 @@
 // compares like with like on a machine whose speed varies with its load.
 
 #include <cstddef>
-#include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -29,12 +27,6 @@ struct BenchFrame {
 /// Reads the first `max_frames` frames of `sequence` (all of them if max_frames <= 0).
 /// Throws Error on an unreadable image.
 std::vector<BenchFrame> read_bench_frames(const Sequence& sequence, int max_frames);
-
-/// What the benchmark renders when it is given no sequence: the `rocks` scenario at
-/// `scale` (1.0: full CADRE resolution), `frames` frames, into `out_dir`.
-/// Returns the seconds spent rendering.
-double render_bench_sequence(const std::filesystem::path& out_dir, int frames, double scale,
-                             std::uint64_t seed);
 
 struct FrameBenchOptions {
   /// Timed passes over all frames. One untimed pass runs first, so that buffers, the

@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/map/dense_grid.hpp"
+#include "hazmap/map/height_range.hpp"
 
 namespace hazmap {
 
@@ -22,16 +23,6 @@ struct RobotMarker {
   double y_m = 0.0;
   double yaw_rad = std::numeric_limits<double>::quiet_NaN();
 };
-
-/// Colour range of a height panel.
-struct HeightRange {
-  bool any = false;        ///< some cell is known
-  double lo = 0, hi = 0;   ///< coloured range: percentiles clip_pct and 100 - clip_pct
-  double min = 0, max = 0; ///< all known cells
-};
-
-/// The known cells' range; `clip_pct` in [0, 50) cut from each end (0: min and max).
-HeightRange robust_height_range(const DenseGrid& height, double clip_pct);
 
 /// A scale-bar length for a panel `width_m` wide: the largest 1, 2 or 5 x 10^k metres
 /// not longer than a quarter of it.

@@ -36,8 +36,8 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "hazmap/io/config.hpp"
 #include "hazmap/stereo/ground_band.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 

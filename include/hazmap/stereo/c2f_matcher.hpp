@@ -21,7 +21,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "hazmap/io/config.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 

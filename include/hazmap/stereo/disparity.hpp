@@ -19,8 +19,8 @@
 #include <opencv2/calib3d.hpp>
 
 #include "hazmap/core/types.hpp"
-#include "hazmap/io/config.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 

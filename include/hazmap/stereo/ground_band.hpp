@@ -24,8 +24,8 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/core/types.hpp"
-#include "hazmap/io/config.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 

@@ -25,11 +25,11 @@
 #include <opencv2/core.hpp>
 
 #include "hazmap/core/types.hpp"
-#include "hazmap/io/config.hpp"
 #include "hazmap/map/known_terrain.hpp"
 #include "hazmap/map/map_points.hpp"
 #include "hazmap/map/measurement.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
 
@@ -81,9 +81,10 @@ class PointCloudBuilder {
                     const cv::Rect& valid_roi_right);
 
   /// Fills `cloud` (cleared first; its capacity is reused) from a fixed-point disparity
-  /// image (CV_16S, x16). Keeps z_min <= Z <= z_max, every stride-th pixel. Fields
-  /// beyond p_W and the covariance are left for the map to fill. Returns the number of
-  /// points dropped as below ground (SPEC 3.3).
+  /// image (CV_16S, x16): every stride-th pixel of the valid region whose disparity is
+  /// above `invalid_below_x16` and gives a depth z_min <= Z <= z_max (and, with a right
+  /// region, a match inside it) becomes p_W with its covariance (sensor.model), unless it
+  /// lies below ground. Returns the number of points dropped as below ground (SPEC 3.3).
   std::size_t build(const cv::Mat& disparity_x16, int invalid_below_x16, const Pose3d& T_W_B,
                     PointCloud& cloud) const;
 

@@ -9,12 +9,12 @@
 
 #include <opencv2/core.hpp>
 
+#include "hazmap/camera/grey_pair.hpp"
 #include "hazmap/camera/rectifier.hpp"
 #include "hazmap/camera/stereo_calibration.hpp"
-#include "hazmap/io/config.hpp"
 #include "hazmap/stereo/disparity.hpp"
-#include "hazmap/stereo/grey_pair.hpp"
 #include "hazmap/stereo/point_cloud_builder.hpp"
+#include "hazmap/stereo/stereo_config.hpp"
 #include "hazmap/stereo/support_check.hpp"
 
 namespace hazmap {

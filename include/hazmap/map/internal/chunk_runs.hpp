@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // Pass 2 of a layer's insertion for rules that merge each run straight into its cell
 // (MergePolicy::per_run, per_chunk): the kernels behind ChunkRuns (rules/run_view.hpp),
 // a chunk's runs of equal slots as a list of start indices and, for per_chunk rules

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // Pass 1 of a layer's insertion: each point of a chunk -> its storage slot in the layer's
 // ring buffer and its cell-centred position. Straight-line arithmetic in SIMD lanes: one
 // multiply per axis (no division by the resolution), a floor, a bounds test and a

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer: not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // A layer's cells with their lazy ageing (lazy_ageing.hpp): each cell is stamped with the
 // frame of its last merge, in the cell (Rule::kStampInCell) or beside it, and catches up
 // on the frames since then (Rule::age) when it is next merged (catch_up) or read

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer: not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // A layer's cells -> the published grids (LayerGrids): what each known cell publishes
 // (export_cells; SPEC 6.4 for plane cells) and the pose uncertainty added since each
 // cell's last update (inflate_variance, SPEC 7). Image rows run from the window's largest

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer: not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // The loops of a layer's insertion after pass 1 (internal/chunk_slots.hpp has given every
 // point its slot, kNoSlot when dropped): the SPEC 4 consistency gate, and pass 2, which
 // lists the chunk's runs of equal slots (ChunkRuns::find, one list for both paths) and

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
+// Part of RollingLayer's implementation; the public rolling_layer.hpp includes it (the layer
+// is a template), so it is installed and visible, but it is no interface to build on.
 // Lazy ageing: a cell is stamped with the frame of its last merge and catches up on the
 // frames since then (Rule::age) when it is next merged or read, so that a frame does not
 // pass over every cell.

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
+// Used by RollingLayer's insertion and by the built-in rules, whose public types hold it
+// (rules/omg.hpp, ccm.hpp, kalman.hpp): visible through them; a custom rule need not use it.
 // Sums of one run: consecutive points of a chunk that fall in the same cell. Scan lines
 // cross cells in runs (in the benchmark frame ~8 points per 1 cm cell, ~30 per 4 cm
 // cell), so a layer finds a run's cell once and sums the run in registers.

@@ -1,7 +1,9 @@
 #pragma once
-// Internal to the map's kernels (src/map): not part of the hazmap API.
-// The one place that says how the map's per-point loops use SIMD: the wider instruction
-// set they target, how the CPU is asked for it, and the vector types they are written in.
+// Internal to the library's SIMD kernels (src/map, and src/stereo's c2f matcher): no public
+// header includes it.
+// The one place that says how the per-point loops (the map's, c2f's) use SIMD: the wider
+// instruction set they target, how the CPU is asked for it, and the vector types they are
+// written in.
 //
 // One target, x86-64-v3 (AVX2, FMA, POPCNT, ...) over the x86-64 baseline, reached in
 // one of two ways:

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to RollingLayer (and the update rules it is built with): not part of the hazmap API.
+// Used by RollingLayer's insertion and by the built-in rules, whose public types hold it
+// (rules/omg.hpp, ccm.hpp, kalman.hpp): visible through them; a custom rule need not use it.
 // A height stored as a float reference plus a float offset: ~48 bits together, so a cell
 // at |z| ~ 100 m keeps sub-micrometre resolution in 8 bytes, and merges do not accumulate
 // float rounding (the value is re-split at every store). Used by the Kalman, OMG and CCM

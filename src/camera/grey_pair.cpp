@@ -1,4 +1,4 @@
-#include "hazmap/stereo/grey_pair.hpp"
+#include "hazmap/camera/grey_pair.hpp"
 
 #include <algorithm>
 

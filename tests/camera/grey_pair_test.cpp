@@ -8,7 +8,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/io/images.hpp"
-#include "hazmap/stereo/grey_pair.hpp"
+#include "hazmap/camera/grey_pair.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 #include "stereo/stereo_scene.hpp"
 #include "test_support.hpp"
