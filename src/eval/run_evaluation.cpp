@@ -712,7 +712,7 @@ HtmlSection seen_section(const RunEvaluation& ev) {
                       pct(p.fraction(kTruthHazard, 1)), pct(p.fraction(kTruthTall, 2))});
     const std::size_t unknown = p.count[kTruthFree][0];
     const auto share = [&](std::size_t n) {
-      return unknown == 0 ? std::string("-") : pct(static_cast<double>(n) / unknown);
+      return unknown == 0 ? std::string("-") : pct(static_cast<double>(n) / static_cast<double>(unknown));
     };
     r.rows.push_back({ev.layers[l].name});
     for (int b = 0; b < kUnknownReasonCount; ++b)

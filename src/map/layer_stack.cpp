@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/stopwatch.hpp"
 #include "hazmap/core/ticks.hpp"
 #include "hazmap/map/internal/point_bounds.hpp"
 #include "hazmap/map/rolling_layer.hpp"
@@ -141,7 +142,7 @@ std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
         layer_ticks_[i] += now - last;
         last = now;
       });
-  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  const double ms = ms_since(start);
   const std::uint64_t ticks = last - start_ticks;
   for (std::size_t i = 0; i < layers_.size(); ++i)
     layer_ms[i] = ticks > 0 ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
