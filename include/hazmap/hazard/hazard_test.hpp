@@ -58,8 +58,6 @@ class HazardTests {
     std::apply([&](const auto&... t) { ((on_[i++] ? t.add(cell, ev) : void()), ...); }, tests_);
   }
 
-  static constexpr std::size_t size() { return sizeof...(Tests); }
-
  private:
   std::tuple<Tests...> tests_;
   std::array<bool, sizeof...(Tests)> on_;
