@@ -258,12 +258,26 @@ void log_run_start(const RunOptions& options, size_t frames, const Sequence& seq
   for (const std::string& w : rig_warnings) spdlog::warn("{}", w);
 }
 
-/// Reads the frame's images; returns the time it took [ms].
-double read_pair(const SequenceFrame& frame, cv::Mat& left, cv::Mat& right) {
+/// Reads the frame's images; the record starts with its name, pose and reading time.
+FrameRecord read_frame(const SequenceFrame& frame, cv::Mat& left, cv::Mat& right) {
+  FrameRecord rec;
+  rec.name = frame.name;
+  rec.T_W_B = frame.pose.T_W_B;
   const auto t = Clock::now();
   left = read_image(frame.left_path);
   right = read_image(frame.right_path);
-  return ms_since(t);
+  rec.read_ms = ms_since(t);
+  return rec;
+}
+
+/// Pipeline::process on the frame's pair; an error names the frame's left image.
+FrameReport process_frame(Pipeline& pipeline, const SequenceFrame& frame, const cv::Mat& left,
+                          const cv::Mat& right) {
+  try {
+    return pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
+  } catch (const Error& e) {
+    throw Error(frame.left_path.string() + ": " + e.what());
+  }
 }
 
 /// Hands the pipeline's current outputs to the writer and books them in `rec` and
@@ -395,18 +409,9 @@ RunResult SequenceRun::run() {
     if (stop_requested(options)) break;
     const SequenceFrame& frame = frames[static_cast<size_t>(i)];
     try {
-      FrameRecord rec;
-      rec.name = frame.name;
-      rec.T_W_B = frame.pose.T_W_B;
       cv::Mat left, right;
-      rec.read_ms = read_pair(frame, left, right);
-
-      FrameReport report;
-      try {
-        report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
-      } catch (const Error& e) {
-        throw Error(frame.left_path.string() + ": " + e.what());
-      }
+      FrameRecord rec = read_frame(frame, left, right);
+      const FrameReport report = process_frame(pipeline, frame, left, right);
       last = i;
       if (!ground_checked && report.points > 0) {
         warn_if_ground_tilted(pipeline.cloud(), frame, sequence_.calibration, config);
