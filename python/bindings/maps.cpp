@@ -304,9 +304,8 @@ at the finest layer's resolution; read-only views like Layer's grids, all of one
   def_geometry<PlannerHandle>(planner, [](const PlannerHandle& h) -> const DenseGrid& { return h.maps().fused; });
 }
 
-}  // namespace
-
-void bind_maps(py::module_& m) {
+/// Config and the functions that make one.
+void bind_config(py::module_& m) {
   py::class_<Config>(m, "Config", "A validated run configuration (SPEC 13); see load_config.")
       .def("to_yaml", [](const Config& c) { return to_yaml(c); },
            "The configuration as YAML, every key with the value in use.")
@@ -334,7 +333,10 @@ Raises hazmap.Error naming the file, line or key.)");
                            const std::string& source) { return parse_config(text, source, overrides); },
         py::arg("yaml_text"), py::arg("overrides") = std::vector<std::string>{},
         py::arg("source") = "<string>", "As load_config, from YAML text.");
+}
 
+/// Calibration and load_calibration.
+void bind_calibration(py::module_& m) {
   py::class_<StereoCalibration>(m, "Calibration", "A stereo calibration (SPEC 2); see load_calibration.")
       .def_readonly("image_width", &StereoCalibration::image_width)
       .def_readonly("image_height", &StereoCalibration::image_height)
@@ -346,9 +348,10 @@ Raises hazmap.Error naming the file, line or key.)");
       });
   m.def("load_calibration", &load_stereo_calibration, py::arg("path"),
         "Reads calibration.yaml (ours, or OpenCV's FileStorage layout).");
+}
 
-  bind_layer_classes(m);
-
+/// Pipeline: stereo pairs in, the maps out.
+void bind_pipeline(py::module_& m) {
   py::class_<PyPipeline> pipeline(m, "Pipeline", R"(The per-frame path of `hazmap run`: grey
 conversion, rectification, disparity, points, map insertion, hazards. Not for use by two
 threads at once (a second process() waits for the first; reading grids meanwhile sees a
@@ -391,7 +394,10 @@ gated_std, gated_consistency, ms: {rectify, disparity, points, map, hazard, tota
                           numpy_from_mat(p.pipeline().rectified_right()));
   }, "The last frame's rectified 8-bit grey pair (copies).");
   def_map_source<PyPipeline>(pipeline);
+}
 
+/// LayerStack: points in (no stereo), the same maps out.
+void bind_layer_stack(py::module_& m) {
   py::class_<PyLayerStack> stack(m, "LayerStack", R"(The multi-resolution map and its hazard
 stage without stereo: insert points from anywhere (a lidar, a simulation, a test) and read
 the same grids a Pipeline gives. Same threading rules as Pipeline.)");
@@ -433,6 +439,16 @@ robot_xy: (x, y) of the body in W [m]: the windows' centre.
 noise: as Pipeline.process.
 Returns {points, updates, gated_std, gated_consistency}.)");
   def_map_source<PyLayerStack>(stack);
+}
+
+}  // namespace
+
+void bind_maps(py::module_& m) {
+  bind_config(m);
+  bind_calibration(m);
+  bind_layer_classes(m);
+  bind_pipeline(m);
+  bind_layer_stack(m);
 }
 
 }  // namespace hazmap::python

@@ -153,47 +153,8 @@ void parse_field_flags(const Args& args, const std::string& prefix, Field& field
   }
 }
 
-}  // namespace
-
-int cmd_simulate(int argc, char** argv) {
-  if (wants_help(argc, argv)) {
-    std::fputs(kSimulateUsage, stdout);
-    return kExitOk;
-  }
-  const Args args = parse_args(
-      argc, argv,
-      {"scenario", "out", "seed", "frames", "scale", "step", "ramp-deg", "samples", "noise-sigma",
-       "gt-margin", "terrain-size", "sine-amplitude", "sine-wavelength", "sine-direction-deg",
-       "noise-amplitude", "rock-count", "rock-density", "rock-radius", "rock-sizes",
-       "rock-exponent", "rock-box", "rock-buried", "rock-clearance", "crater-count",
-       "crater-density", "crater-radius", "crater-sizes", "crater-exponent", "crater-box",
-       "crater-depth", "crater-rim", "path", "waypoint-spacing", "max-turn-deg", "wheelbase",
-       "track", "drift", "drift-direction-deg", "distortion", "misalignment", "rig", "gain",
-       "exposure", "offset-dn", "electrons-per-dn", "vignetting", "bits", "row-offset-px",
-       "sun-elevation-deg", "sun-azimuth-deg", "ambient", "albedo", "albedo-contrast",
-       "albedo-correlation", "opposition-surge", "opposition-width-deg", "noise-octaves",
-       "noise-wavelength", "noise-gain", "terrain-resolution"},
-      {"ground-truth", "no-sun", "quiet", "depth", "scatter-rocks", "distort", "misalign",
-       "overwrite", "lunar-polar-light", "terrain-shadows"});
-  hazmap::sim::SimulationOptions options;
-  options.scenario = args.get("scenario", options.scenario);
-  const std::filesystem::path out = args.required("out");
-  // Whole numbers range-checked before the cast: 2^53 is the largest seed a double given
-  // on the command line holds exactly; simulate accepts 1 to 100000 frames.
-  if (args.has("seed"))
-    options.seed = static_cast<std::uint64_t>(args.whole("seed", 0, 9007199254740992LL));
-  if (args.has("frames")) options.frames = static_cast<int>(args.whole("frames", 1, 100000));
-  if (args.has("scale")) options.scale = args.number("scale");
-  if (args.has("step")) options.step_m = args.number("step");
-  if (args.has("samples"))
-    options.render.samples_per_axis = static_cast<int>(args.whole("samples", 1, 8));
-  if (args.has("noise-sigma")) options.render.noise_sigma_dn = args.number("noise-sigma");
-  if (args.has("gt-margin")) options.ground_truth_margin_m = args.number("gt-margin");
-  options.render.sun_shading = !args.on("no-sun");
-  options.write_ground_truth = args.on("ground-truth");
-  options.write_depth = args.on("depth");
-
-  // Terrain.
+/// Terrain: ramp, sine, fractal ground, rock and crater fields.
+void parse_terrain_flags(const Args& args, sim::SimulationOptions& options) {
   if (args.has("terrain-size")) options.terrain_size_m = args.number("terrain-size");
   if (args.has("ramp-deg")) options.ramp_deg = args.number("ramp-deg");
   if (args.has("sine-amplitude")) options.sine.amplitude_m = args.number("sine-amplitude");
@@ -210,8 +171,10 @@ int cmd_simulate(int argc, char** argv) {
   parse_field_flags(args, "crater", options.crater_field);
   if (args.has("crater-depth")) options.crater_field.depth_ratio = args.number("crater-depth");
   if (args.has("crater-rim")) options.crater_field.rim_ratio = args.number("crater-rim");
+}
 
-  // Path and poses.
+/// Path and poses: the route, the wheel contacts and the drift of poses.txt.
+void parse_path_flags(const Args& args, sim::SimulationOptions& options) {
   options.path.kind = args.get("path", options.path.kind);
   if (args.has("waypoint-spacing")) options.path.waypoint_spacing_m = args.number("waypoint-spacing");
   if (args.has("max-turn-deg")) options.path.max_turn_deg = args.number("max-turn-deg");
@@ -220,8 +183,10 @@ int cmd_simulate(int argc, char** argv) {
   if (args.has("drift")) options.drift.fraction = args.number("drift");
   if (args.has("drift-direction-deg"))
     options.drift.direction_deg = args.number("drift-direction-deg");
+}
 
-  // Camera errors.
+/// Camera errors: lens distortion and right-camera misalignment.
+void parse_rig_error_flags(const Args& args, sim::SimulationOptions& options) {
   if (args.on("distort")) options.rig_errors.distortion = sim::RigErrors::typical_distortion();
   if (args.has("distortion")) {
     const auto d = numbers(args, "distortion", 5);
@@ -236,8 +201,11 @@ int cmd_simulate(int argc, char** argv) {
     options.rig_errors.misalignment_rpy_deg = Eigen::Vector3d(m[0], m[1], m[2]);
     options.rig_errors.misalignment_m = Eigen::Vector3d(m[3], m[4], m[5]);
   }
+}
 
-  // Light, surface and cameras (the preset first; explicit options override it).
+/// Light, surface, ground relief and the camera pair (the preset first; explicit options
+/// override it).
+void parse_light_and_surface_flags(const Args& args, sim::SimulationOptions& options) {
   options.rig = args.get("rig", options.rig);
   if (args.on("lunar-polar-light")) sim::apply_lunar_polar_light(options.render);
   if (args.has("sun-elevation-deg"))
@@ -263,7 +231,10 @@ int cmd_simulate(int argc, char** argv) {
   if (args.has("noise-gain")) options.ground_noise.gain = args.number("noise-gain");
   if (args.has("terrain-resolution"))
     options.terrain_resolution_m = args.number("terrain-resolution");
-  // Per-camera values: "V" for both cameras or "L,R".
+}
+
+/// The cameras' response, per camera ("V" for both or "L,R"), and quantisation.
+void parse_camera_response_flags(const Args& args, sim::SimulationOptions& options) {
   auto per_camera = [&](const std::string& flag, double sim::CameraResponse::*member) {
     if (!args.has(flag)) return;
     const bool two = args.get(flag).find(',') != std::string::npos;
@@ -282,6 +253,60 @@ int cmd_simulate(int argc, char** argv) {
     options.left_response.bits = options.right_response.bits = bits;
   }
   if (args.has("row-offset-px")) options.row_offset_px = args.number("row-offset-px");
+}
+
+/// Every option of the command line but --out, in the order they were always read (an
+/// error names the first bad one).
+sim::SimulationOptions simulation_options(const Args& args) {
+  sim::SimulationOptions options;
+  options.scenario = args.get("scenario", options.scenario);
+  // Whole numbers range-checked before the cast: 2^53 is the largest seed a double given
+  // on the command line holds exactly; simulate accepts 1 to 100000 frames.
+  if (args.has("seed"))
+    options.seed = static_cast<std::uint64_t>(args.whole("seed", 0, 9007199254740992LL));
+  if (args.has("frames")) options.frames = static_cast<int>(args.whole("frames", 1, 100000));
+  if (args.has("scale")) options.scale = args.number("scale");
+  if (args.has("step")) options.step_m = args.number("step");
+  if (args.has("samples"))
+    options.render.samples_per_axis = static_cast<int>(args.whole("samples", 1, 8));
+  if (args.has("noise-sigma")) options.render.noise_sigma_dn = args.number("noise-sigma");
+  if (args.has("gt-margin")) options.ground_truth_margin_m = args.number("gt-margin");
+  options.render.sun_shading = !args.on("no-sun");
+  options.write_ground_truth = args.on("ground-truth");
+  options.write_depth = args.on("depth");
+
+  parse_terrain_flags(args, options);
+  parse_path_flags(args, options);
+  parse_rig_error_flags(args, options);
+  parse_light_and_surface_flags(args, options);
+  parse_camera_response_flags(args, options);
+  return options;
+}
+
+}  // namespace
+
+int cmd_simulate(int argc, char** argv) {
+  if (wants_help(argc, argv)) {
+    std::fputs(kSimulateUsage, stdout);
+    return kExitOk;
+  }
+  const Args args = parse_args(
+      argc, argv,
+      {"scenario", "out", "seed", "frames", "scale", "step", "ramp-deg", "samples", "noise-sigma",
+       "gt-margin", "terrain-size", "sine-amplitude", "sine-wavelength", "sine-direction-deg",
+       "noise-amplitude", "rock-count", "rock-density", "rock-radius", "rock-sizes",
+       "rock-exponent", "rock-box", "rock-buried", "rock-clearance", "crater-count",
+       "crater-density", "crater-radius", "crater-sizes", "crater-exponent", "crater-box",
+       "crater-depth", "crater-rim", "path", "waypoint-spacing", "max-turn-deg", "wheelbase",
+       "track", "drift", "drift-direction-deg", "distortion", "misalignment", "rig", "gain",
+       "exposure", "offset-dn", "electrons-per-dn", "vignetting", "bits", "row-offset-px",
+       "sun-elevation-deg", "sun-azimuth-deg", "ambient", "albedo", "albedo-contrast",
+       "albedo-correlation", "opposition-surge", "opposition-width-deg", "noise-octaves",
+       "noise-wavelength", "noise-gain", "terrain-resolution"},
+      {"ground-truth", "no-sun", "quiet", "depth", "scatter-rocks", "distort", "misalign",
+       "overwrite", "lunar-polar-light", "terrain-shadows"});
+  const std::filesystem::path out = args.required("out");
+  sim::SimulationOptions options = simulation_options(args);
 
   // Files of two sequences never mix in one folder (a stale poses_true.txt would be read
   // as this sequence's true poses): the rule of hazmap run's OUT, for what simulate writes.

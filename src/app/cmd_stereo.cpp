@@ -54,6 +54,84 @@ cloud is then in EuRoC's body frame).
 
 std::string json_number(double v) { return printf_double(v, "%.4f"); }
 
+/// Buffers reused from frame to frame.
+struct FrameImages {
+  cv::Mat disparity_u16, disparity_bgr;
+  std::vector<std::uint8_t> grey;
+};
+
+/// OUT/frames/<frame>/: the rectified pair, the disparity (16-bit and false colour) and
+/// the cloud with each point's grey value.
+void write_frame_files(const hazmap::StereoFrontEnd& front_end, const hazmap::Config& config,
+                       const std::filesystem::path& dir, const std::string& name,
+                       FrameImages& images) {
+  hazmap::write_png(dir / "left_rect.png", front_end.rectified_left());
+  hazmap::write_png(dir / "right_rect.png", front_end.rectified_right());
+  const int invalid = front_end.matcher().invalid_below();
+  hazmap::disparity_to_u16(front_end.disparity_x16(), invalid, images.disparity_u16);
+  hazmap::write_png(dir / "disparity.png", images.disparity_u16);
+  hazmap::colorize_disparity(front_end.disparity_x16(), invalid,
+                             front_end.matcher().min_disparity(),
+                             front_end.matcher().num_disparities(), images.disparity_bgr);
+  hazmap::write_png(dir / "disparity_color.png", images.disparity_bgr);
+  images.grey.clear();
+  for (const cv::Point& p : front_end.pixels())
+    images.grey.push_back(front_end.rectified_left().at<std::uint8_t>(p));
+  hazmap::write_ply(dir / "cloud.ply", front_end.cloud(), &images.grey,
+                    {"hazmap stereo, frame " + name,
+                     "frame W (world); covariance cov_* in m^2, SPEC 4 sensor model " +
+                         std::string(hazmap::enum_name(config.sensor.model))});
+}
+
+/// The run's first lines: what runs on what, the rectified geometry and the matcher; the
+/// whole configuration to run.log only.
+void log_run_start(const hazmap::StereoFrontEnd& front_end, const hazmap::Config& config,
+                   const std::filesystem::path& config_path,
+                   const std::filesystem::path& sequence_dir,
+                   const std::filesystem::path& out_dir, size_t frames) {
+  const hazmap::StereoGeometry& g = front_end.rectifier().geometry();
+  const cv::Rect region = front_end.builder().region();
+  spdlog::info("hazmap {} stereo: config {}, sequence {}, out {}, {} frames", HAZMAP_VERSION,
+               config_path.string(), sequence_dir.string(), out_dir.string(), frames);
+  spdlog::info("rectified: f {:.2f} px, B {:.4f} m, c ({:.1f}, {:.1f}) px, points from x {} y {} "
+               "w {} h {}; matcher {}, search {}, {} disparities",
+               g.focal_px, g.baseline_m, g.cx_px, g.cy_px, region.x, region.y, region.width,
+               region.height, hazmap::enum_name(config.stereo.matcher),
+               hazmap::enum_name(config.stereo.search),
+               config.stereo.num_disparities);
+  if (const hazmap::BandMatcher* band = front_end.matcher().band())
+    spdlog::info("ground band: {}", hazmap::describe_strips(band->strips()));
+  log_to_file_only("configuration in use:\n" + hazmap::to_yaml(config));
+}
+
+/// One element of stereo_summary.json's per_frame array.
+std::string frame_json(const std::string& name, size_t points, const hazmap::StereoTimes& t) {
+  return "    {\"frame\": \"" + name + "\", \"points\": " + std::to_string(points) +
+         ", \"grey_ms\": " + json_number(t.grey_ms) +
+         ", \"rectify_ms\": " + json_number(t.rectify_ms) +
+         ", \"disparity_ms\": " + json_number(t.disparity_ms) +
+         ", \"points_ms\": " + json_number(t.points_ms) + "}";
+}
+
+/// OUT/stereo_summary.json: totals, the rectified geometry, mean stage times and the
+/// per-frame elements.
+std::string summary_json(size_t frames, size_t points_total, const hazmap::Config& config,
+                         const hazmap::StereoGeometry& g, const hazmap::StereoTimes& sum,
+                         const std::string& per_frame) {
+  const double n = static_cast<double>(frames);
+  return "{\n  \"frames\": " + std::to_string(frames) +
+         ",\n  \"points\": " + std::to_string(points_total) +
+         ",\n  \"matcher\": \"" + std::string(hazmap::enum_name(config.stereo.matcher)) + "\"" +
+         ",\n  \"focal_px\": " + json_number(g.focal_px) +
+         ",\n  \"baseline_m\": " + json_number(g.baseline_m) +
+         ",\n  \"mean_ms\": {\"grey\": " + json_number(sum.grey_ms / n) +
+         ", \"rectify\": " + json_number(sum.rectify_ms / n) +
+         ", \"disparity\": " + json_number(sum.disparity_ms / n) +
+         ", \"points\": " + json_number(sum.points_ms / n) +
+         ", \"total\": " + json_number(sum.total() / n) + "}" +
+         ",\n  \"per_frame\": [\n" + per_frame + "\n  ]\n}\n";
+}
+
 }  // namespace
 
 int cmd_stereo(int argc, char** argv) {
@@ -92,25 +170,13 @@ int cmd_stereo(int argc, char** argv) {
 
   setup_logging(out_dir / hazmap::run_layout::kRunLog, args.on("quiet"));
   for (const std::string& w : warnings) spdlog::warn("{}", w);
+  log_run_start(front_end, config, config_path, sequence_dir, out_dir, frames.size());
   const hazmap::StereoGeometry& g = front_end.rectifier().geometry();
-  const cv::Rect region = front_end.builder().region();
-  spdlog::info("hazmap {} stereo: config {}, sequence {}, out {}, {} frames", HAZMAP_VERSION,
-               config_path.string(), sequence_dir.string(), out_dir.string(), frames.size());
-  spdlog::info("rectified: f {:.2f} px, B {:.4f} m, c ({:.1f}, {:.1f}) px, points from x {} y {} "
-               "w {} h {}; matcher {}, search {}, {} disparities",
-               g.focal_px, g.baseline_m, g.cx_px, g.cy_px, region.x, region.y, region.width,
-               region.height, hazmap::enum_name(config.stereo.matcher),
-               hazmap::enum_name(config.stereo.search),
-               config.stereo.num_disparities);
-  if (const hazmap::BandMatcher* band = front_end.matcher().band())
-    spdlog::info("ground band: {}", hazmap::describe_strips(band->strips()));
-  log_to_file_only("configuration in use:\n" + hazmap::to_yaml(config));
 
   std::string per_frame;
   hazmap::StereoTimes sum;
   size_t points_total = 0;
-  cv::Mat disparity_u16, disparity_bgr;
-  std::vector<std::uint8_t> grey;
+  FrameImages images;
   for (size_t i = 0; i < frames.size(); ++i) {
     const hazmap::SequenceFrame& f = frames[i];
     try {
@@ -118,23 +184,8 @@ int cmd_stereo(int argc, char** argv) {
       const cv::Mat right = hazmap::read_image(f.right_path);
       const hazmap::StereoTimes t = front_end.process(left, right, f.pose.T_W_B);
 
-      const std::filesystem::path dir = hazmap::run_layout::frame_dir(out_dir, f.name);
-      hazmap::write_png(dir / "left_rect.png", front_end.rectified_left());
-      hazmap::write_png(dir / "right_rect.png", front_end.rectified_right());
-      const int invalid = front_end.matcher().invalid_below();
-      hazmap::disparity_to_u16(front_end.disparity_x16(), invalid, disparity_u16);
-      hazmap::write_png(dir / "disparity.png", disparity_u16);
-      hazmap::colorize_disparity(front_end.disparity_x16(), invalid,
-                                 front_end.matcher().min_disparity(),
-                                 front_end.matcher().num_disparities(), disparity_bgr);
-      hazmap::write_png(dir / "disparity_color.png", disparity_bgr);
-      grey.clear();
-      for (const cv::Point& p : front_end.pixels())
-        grey.push_back(front_end.rectified_left().at<std::uint8_t>(p));
-      hazmap::write_ply(dir / "cloud.ply", front_end.cloud(), &grey,
-                        {"hazmap stereo, frame " + f.name,
-                         "frame W (world); covariance cov_* in m^2, SPEC 4 sensor model " +
-                             std::string(hazmap::enum_name(config.sensor.model))});
+      write_frame_files(front_end, config, hazmap::run_layout::frame_dir(out_dir, f.name), f.name,
+                        images);
 
       const size_t points = front_end.cloud().size();
       points_total += points;
@@ -146,12 +197,7 @@ int cmd_stereo(int argc, char** argv) {
                    "ms, points {:.1f} ms",
                    i + 1, frames.size(), f.name, points, t.grey_ms, t.rectify_ms, t.disparity_ms,
                    t.points_ms);
-      per_frame += std::string(per_frame.empty() ? "" : ",\n") + "    {\"frame\": \"" + f.name +
-                   "\", \"points\": " + std::to_string(points) +
-                   ", \"grey_ms\": " + json_number(t.grey_ms) +
-                   ", \"rectify_ms\": " + json_number(t.rectify_ms) +
-                   ", \"disparity_ms\": " + json_number(t.disparity_ms) +
-                   ", \"points_ms\": " + json_number(t.points_ms) + "}";
+      per_frame += std::string(per_frame.empty() ? "" : ",\n") + frame_json(f.name, points, t);
     } catch (const hazmap::Error& e) {
       throw hazmap::Error(std::string(e.what()) + " (frame " + f.name + ", " +
                           std::to_string(i + 1) + " of " + std::to_string(frames.size()) +
@@ -160,19 +206,8 @@ int cmd_stereo(int argc, char** argv) {
     }
   }
   const double n = static_cast<double>(frames.size());
-  const std::string summary =
-      "{\n  \"frames\": " + std::to_string(frames.size()) +
-      ",\n  \"points\": " + std::to_string(points_total) +
-      ",\n  \"matcher\": \"" + std::string(hazmap::enum_name(config.stereo.matcher)) + "\"" +
-      ",\n  \"focal_px\": " + json_number(g.focal_px) +
-      ",\n  \"baseline_m\": " + json_number(g.baseline_m) +
-      ",\n  \"mean_ms\": {\"grey\": " + json_number(sum.grey_ms / n) +
-      ", \"rectify\": " + json_number(sum.rectify_ms / n) +
-      ", \"disparity\": " + json_number(sum.disparity_ms / n) +
-      ", \"points\": " + json_number(sum.points_ms / n) +
-      ", \"total\": " + json_number(sum.total() / n) + "}" +
-      ",\n  \"per_frame\": [\n" + per_frame + "\n  ]\n}\n";
-  hazmap::write_file_atomically(out_dir / "stereo_summary.json", summary);
+  hazmap::write_file_atomically(out_dir / "stereo_summary.json",
+                                summary_json(frames.size(), points_total, config, g, sum, per_frame));
   spdlog::info("done: {} frames, {} points; mean per frame: grey {:.1f} ms, rectify {:.1f} ms, "
                "disparity {:.1f} ms, points {:.1f} ms",
                frames.size(), points_total, sum.grey_ms / n, sum.rectify_ms / n,

@@ -76,6 +76,188 @@ void validate(const CloudGroundTruthOptions& o) {
         "--crop: expected x0 < x1 and y0 < y1");
 }
 
+namespace {
+
+/// The cloud's points binned by grid cell (a counting sort): the points of cell k are
+/// order[start[k]] .. order[start[k + 1] - 1].
+struct CellBins {
+  std::vector<std::size_t> start;
+  std::vector<std::uint32_t> order;
+  std::size_t points = 0;  ///< points inside the grid (or crop)
+};
+
+/// Bins the points inside the grid (or, with `crop`, inside [x0, x1] x [y0, y1]).
+CellBins bin_points(const std::vector<Eigen::Vector3d>& points, const JdemGrid& H, bool crop,
+                    double x0, double x1, double y0, double y1) {
+  const int rows = H.rows, cols = H.cols;
+  const double r = H.resolution_m;
+  const double left_m = H.center_x_m - 0.5 * cols * r, bottom_m = H.center_y_m - 0.5 * rows * r;
+  const std::size_t n_cells = static_cast<std::size_t>(rows) * cols;
+  CellBins bins;
+  std::vector<std::int64_t> cell_of(points.size(), -1);
+  bins.start.assign(n_cells + 1, 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    if (crop && (p.x() < x0 || p.x() > x1 || p.y() < y0 || p.y() > y1)) continue;
+    // Points on the grid's upper border belong to its last cell.
+    const long long c = std::clamp<long long>(static_cast<long long>(std::floor((p.x() - left_m) / r)),
+                                              0, cols - 1);
+    const long long rb = std::clamp<long long>(
+        static_cast<long long>(std::floor((p.y() - bottom_m) / r)), 0, rows - 1);
+    cell_of[i] = static_cast<std::int64_t>((rows - 1 - rb) * cols + c);
+    ++bins.start[static_cast<std::size_t>(cell_of[i]) + 1];
+    ++bins.points;
+  }
+  check(bins.points > 0, "ground truth: no point of the cloud lies inside --crop");
+  for (std::size_t k = 0; k < n_cells; ++k) bins.start[k + 1] += bins.start[k];
+  bins.order.resize(bins.points);
+  std::vector<std::size_t> fill(bins.start.begin(), bins.start.end() - 1);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (cell_of[i] >= 0)
+      bins.order[fill[static_cast<std::size_t>(cell_of[i])]++] = static_cast<std::uint32_t>(i);
+  return bins;
+}
+
+/// Heights of the cells with points (a plane through them, at the cell centre); NaN in
+/// the others. Returns the number of cells measured.
+std::size_t measure_cells(const std::vector<Eigen::Vector3d>& points, const CellBins& bins,
+                          double spread_floor, JdemGrid& H) {
+  std::size_t measured = 0;
+  for (int row = 0; row < H.rows; ++row)
+    for (int col = 0; col < H.cols; ++col) {
+      const std::size_t k = static_cast<std::size_t>(row) * H.cols + col;
+      if (bins.start[k] == bins.start[k + 1]) {
+        H.at(row, col) = kNaN;
+        continue;
+      }
+      const Eigen::Vector2d c = cell_center_W(H, row, col);
+      PlaneAtCenter plane;
+      for (std::size_t j = bins.start[k]; j < bins.start[k + 1]; ++j) {
+        const auto& p = points[bins.order[j]];
+        plane.add(p.x() - c.x(), p.y() - c.y(), p.z());
+      }
+      H.at(row, col) = static_cast<float>(plane.value(spread_floor));
+      ++measured;
+    }
+  return measured;
+}
+
+/// Gaps: a cell without points takes the plane through the measured points within
+/// fill_radius of its centre, when they surround it (one in each quadrant). Returns the
+/// number of cells filled.
+std::size_t fill_gaps(const std::vector<Eigen::Vector3d>& points, const CellBins& bins,
+                      double fill_radius, double spread_floor, JdemGrid& H) {
+  const int rows = H.rows, cols = H.cols;
+  const int reach = static_cast<int>(std::ceil(fill_radius / H.resolution_m));
+  std::size_t filled_cells = 0;
+  std::vector<float> filled = H.values;
+  for (int row = 0; row < rows; ++row)
+    for (int col = 0; col < cols; ++col) {
+      if (!std::isnan(H.at(row, col))) continue;
+      const Eigen::Vector2d c = cell_center_W(H, row, col);
+      PlaneAtCenter plane;
+      unsigned quadrants = 0;
+      for (int rr = std::max(0, row - reach); rr <= std::min(rows - 1, row + reach); ++rr)
+        for (int cc = std::max(0, col - reach); cc <= std::min(cols - 1, col + reach); ++cc) {
+          const std::size_t k = static_cast<std::size_t>(rr) * cols + cc;
+          for (std::size_t j = bins.start[k]; j < bins.start[k + 1]; ++j) {
+            const auto& p = points[bins.order[j]];
+            const double dx = p.x() - c.x(), dy = p.y() - c.y();
+            if (dx * dx + dy * dy > fill_radius * fill_radius) continue;
+            quadrants |= 1u << ((dx >= 0 ? 1 : 0) + (dy >= 0 ? 2 : 0));
+            plane.add(dx, dy, p.z());
+          }
+        }
+      if (quadrants == 0xFu) {
+        filled[static_cast<std::size_t>(row) * cols + col] = static_cast<float>(plane.value(spread_floor));
+        ++filled_cells;
+      }
+    }
+  H.values = std::move(filled);
+  return filled_cells;
+}
+
+/// Lower envelope: opening by a disc of radius k cells; unknown cells take no part (+inf
+/// in the erosion; cells whose disc saw nothing, -inf in the dilation). The map is padded
+/// by the radius so that discs may be centred beyond the scan's edge or in a shadow: then
+/// the opening of a plane is the plane up to the edge, not lowered near it.
+cv::Mat lower_envelope(JdemGrid& H, int k) {
+  cv::Mat h(H.rows, H.cols, CV_32F, H.values.data());
+  cv::Mat padded;
+  cv::copyMakeBorder(h, padded, k, k, k, k, cv::BORDER_CONSTANT, cv::Scalar(FLT_MAX));
+  cv::patchNaNs(padded, FLT_MAX);  // (cv::compare does not flag NaN)
+  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1));
+  cv::Mat eroded, dilated;
+  cv::erode(padded, eroded, disc);
+  eroded.setTo(-FLT_MAX, eroded == FLT_MAX);
+  cv::dilate(eroded, dilated, disc);
+  return dilated(cv::Rect(k, k, H.cols, H.rows));
+}
+
+/// The 4-neighbours of cell i of a rows x cols grid.
+struct Neighbours {
+  int rows, cols;
+  template <class F>
+  void operator()(std::size_t i, F&& f) const {
+    const int row = static_cast<int>(i / cols), col = static_cast<int>(i % cols);
+    if (row > 0) f(i - cols);
+    if (row + 1 < rows) f(i + cols);
+    if (col > 0) f(i - 1);
+    if (col + 1 < cols) f(i + 1);
+  }
+};
+
+enum CellState : unsigned char { kUnknownCell = 0, kGroundCell = 1, kObstacleCell = 2 };
+
+/// Obstacle cells reached from a ground cell through obstacle cells, in index order: the
+/// cells the harmonic ground is solved for.
+std::vector<std::size_t> reachable_obstacles(const std::vector<unsigned char>& state,
+                                             const Neighbours& neighbours) {
+  std::vector<std::size_t> active, stack;
+  std::vector<unsigned char> reached(state.size(), 0);
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    if (state[i] != kObstacleCell || reached[i]) continue;
+    bool touches_ground = false;
+    neighbours(i, [&](std::size_t j) { touches_ground |= state[j] == kGroundCell; });
+    if (!touches_ground) continue;
+    reached[i] = 1;
+    stack.push_back(i);
+    while (!stack.empty()) {
+      const std::size_t a = stack.back();
+      stack.pop_back();
+      active.push_back(a);
+      neighbours(a, [&](std::size_t j) {
+        if (state[j] == kObstacleCell && !reached[j]) reached[j] = 1, stack.push_back(j);
+      });
+    }
+  }
+  std::sort(active.begin(), active.end());
+  return active;
+}
+
+/// Harmonic ground under the obstacles: Laplace's equation on the `active` cells, the
+/// known cells around them fixed (SOR Gauss-Seidel).
+void solve_harmonic(const std::vector<std::size_t>& active, const std::vector<unsigned char>& state,
+                    const Neighbours& neighbours, std::vector<float>& G) {
+  constexpr double kOmega = 1.8;  // over-relaxation: Laplace on holes of tens of cells
+  for (int sweep = 0; sweep < 20000 && !active.empty(); ++sweep) {
+    double largest_change = 0.0;
+    for (std::size_t i : active) {
+      double sum = 0.0;
+      int n = 0;
+      neighbours(i, [&](std::size_t j) {
+        if (state[j] != kUnknownCell) sum += G[j], ++n;
+      });
+      const double update = kOmega * (sum / n - G[i]);
+      G[i] = static_cast<float>(G[i] + update);
+      largest_change = std::max(largest_change, std::abs(update));
+    }
+    if (largest_change < 1e-7) break;
+  }
+}
+
+}  // namespace
+
 CloudGroundTruth cloud_ground_truth(const std::vector<Eigen::Vector3d>& points,
                                     const CloudGroundTruthOptions& o) {
   validate(o);
@@ -94,153 +276,37 @@ CloudGroundTruth cloud_ground_truth(const std::vector<Eigen::Vector3d>& points,
   CloudGroundTruth gt;
   gt.height = aligned_ground_truth_grid("height", x0, x1, y0, y1, r);
   JdemGrid& H = gt.height;
-  const int rows = H.rows, cols = H.cols;
-  const double left_m = H.center_x_m - 0.5 * cols * r, bottom_m = H.center_y_m - 0.5 * rows * r;
-
-  // Bin the points by cell (counting sort), keeping those inside the grid (or crop).
-  const std::size_t n_cells = static_cast<std::size_t>(rows) * cols;
-  std::vector<std::int64_t> cell_of(points.size(), -1);
-  std::vector<std::size_t> start(n_cells + 1, 0);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto& p = points[i];
-    if (crop && (p.x() < x0 || p.x() > x1 || p.y() < y0 || p.y() > y1)) continue;
-    // Points on the grid's upper border belong to its last cell.
-    const long long c = std::clamp<long long>(static_cast<long long>(std::floor((p.x() - left_m) / r)),
-                                              0, cols - 1);
-    const long long rb = std::clamp<long long>(
-        static_cast<long long>(std::floor((p.y() - bottom_m) / r)), 0, rows - 1);
-    cell_of[i] = static_cast<std::int64_t>((rows - 1 - rb) * cols + c);
-    ++start[static_cast<std::size_t>(cell_of[i]) + 1];
-    ++gt.points;
-  }
-  check(gt.points > 0, "ground truth: no point of the cloud lies inside --crop");
-  for (std::size_t k = 0; k < n_cells; ++k) start[k + 1] += start[k];
-  std::vector<std::uint32_t> order(gt.points);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (cell_of[i] >= 0) order[fill[static_cast<std::size_t>(cell_of[i])]++] = static_cast<std::uint32_t>(i);
-  }
+  const std::size_t n_cells = static_cast<std::size_t>(H.rows) * H.cols;
 
   // Heights of cells with points; then gaps, from the measured points only.
+  const CellBins bins = bin_points(points, H, crop, x0, x1, y0, y1);
+  gt.points = bins.points;
   const double spread_floor = (0.05 * r) * (0.05 * r);
-  for (int row = 0; row < rows; ++row)
-    for (int col = 0; col < cols; ++col) {
-      const std::size_t k = static_cast<std::size_t>(row) * cols + col;
-      if (start[k] == start[k + 1]) {
-        H.at(row, col) = kNaN;
-        continue;
-      }
-      const Eigen::Vector2d c = cell_center_W(H, row, col);
-      PlaneAtCenter plane;
-      for (std::size_t j = start[k]; j < start[k + 1]; ++j) {
-        const auto& p = points[order[j]];
-        plane.add(p.x() - c.x(), p.y() - c.y(), p.z());
-      }
-      H.at(row, col) = static_cast<float>(plane.value(spread_floor));
-      ++gt.cells_measured;
-    }
+  gt.cells_measured = measure_cells(points, bins, spread_floor, H);
   const double fill_radius = o.fill_radius_m > 0.0 ? o.fill_radius_m : 3.0 * r;
-  const int reach = static_cast<int>(std::ceil(fill_radius / r));
-  std::vector<float> filled = H.values;
-  for (int row = 0; row < rows; ++row)
-    for (int col = 0; col < cols; ++col) {
-      if (!std::isnan(H.at(row, col))) continue;
-      const Eigen::Vector2d c = cell_center_W(H, row, col);
-      PlaneAtCenter plane;
-      unsigned quadrants = 0;
-      for (int rr = std::max(0, row - reach); rr <= std::min(rows - 1, row + reach); ++rr)
-        for (int cc = std::max(0, col - reach); cc <= std::min(cols - 1, col + reach); ++cc) {
-          const std::size_t k = static_cast<std::size_t>(rr) * cols + cc;
-          for (std::size_t j = start[k]; j < start[k + 1]; ++j) {
-            const auto& p = points[order[j]];
-            const double dx = p.x() - c.x(), dy = p.y() - c.y();
-            if (dx * dx + dy * dy > fill_radius * fill_radius) continue;
-            quadrants |= 1u << ((dx >= 0 ? 1 : 0) + (dy >= 0 ? 2 : 0));
-            plane.add(dx, dy, p.z());
-          }
-        }
-      if (quadrants == 0xFu) {
-        filled[static_cast<std::size_t>(row) * cols + col] = static_cast<float>(plane.value(spread_floor));
-        ++gt.cells_filled;
-      }
-    }
-  H.values = std::move(filled);
+  gt.cells_filled = fill_gaps(points, bins, fill_radius, spread_floor, H);
 
-  // 1. Lower envelope: opening by a disc; unknown cells take no part (+inf in the
-  //    erosion; cells whose disc saw nothing, -inf in the dilation). The map is padded by
-  //    the radius so that discs may be centred beyond the scan's edge or in a shadow: then
-  //    the opening of a plane is the plane up to the edge, not lowered near it.
+  // 1. Lower envelope; 2. ground cells (within the tolerance of it), the others obstacles
+  // on the envelope; 3. harmonic ground under the obstacles.
   const int k = std::max(1, static_cast<int>(std::lround(o.ground_radius_m / r)));
-  cv::Mat h(rows, cols, CV_32F, H.values.data());
-  cv::Mat padded;
-  cv::copyMakeBorder(h, padded, k, k, k, k, cv::BORDER_CONSTANT, cv::Scalar(FLT_MAX));
-  cv::patchNaNs(padded, FLT_MAX);  // (cv::compare does not flag NaN)
-  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1));
-  cv::Mat eroded, dilated;
-  cv::erode(padded, eroded, disc);
-  eroded.setTo(-FLT_MAX, eroded == FLT_MAX);
-  cv::dilate(eroded, dilated, disc);
-  const cv::Mat envelope = dilated(cv::Rect(k, k, cols, rows));
-
-  // 2. Ground cells; 3. harmonic ground under the obstacles (SOR Gauss-Seidel).
+  const cv::Mat envelope = lower_envelope(H, k);
   JdemGrid ground = H;
   ground.quantity = "ground";
-  std::vector<unsigned char> state(n_cells, 0);  // 0 unknown, 1 ground, 2 obstacle
+  std::vector<unsigned char> state(n_cells, kUnknownCell);
   for (std::size_t i = 0; i < n_cells; ++i) {
     const float z = H.values[i];
     if (std::isnan(z)) continue;
-    const float env = envelope.at<float>(static_cast<int>(i / cols), static_cast<int>(i % cols));
+    const float env = envelope.at<float>(static_cast<int>(i / H.cols), static_cast<int>(i % H.cols));
     if (env == -FLT_MAX || z - env <= o.ground_tolerance_m) {
-      state[i] = 1;
+      state[i] = kGroundCell;
     } else {
-      state[i] = 2;
+      state[i] = kObstacleCell;
       ground.values[i] = env;
     }
   }
-  // Obstacle cells reached from a ground cell through obstacle cells take part.
-  std::vector<std::size_t> active, stack;
-  std::vector<unsigned char> reached(n_cells, 0);
-  auto neighbours = [&](std::size_t i, auto&& f) {
-    const int row = static_cast<int>(i / cols), col = static_cast<int>(i % cols);
-    if (row > 0) f(i - cols);
-    if (row + 1 < rows) f(i + cols);
-    if (col > 0) f(i - 1);
-    if (col + 1 < cols) f(i + 1);
-  };
-  for (std::size_t i = 0; i < n_cells; ++i) {
-    if (state[i] != 2 || reached[i]) continue;
-    bool touches_ground = false;
-    neighbours(i, [&](std::size_t j) { touches_ground |= state[j] == 1; });
-    if (!touches_ground) continue;
-    reached[i] = 1;
-    stack.push_back(i);
-    while (!stack.empty()) {
-      const std::size_t a = stack.back();
-      stack.pop_back();
-      active.push_back(a);
-      neighbours(a, [&](std::size_t j) {
-        if (state[j] == 2 && !reached[j]) reached[j] = 1, stack.push_back(j);
-      });
-    }
-  }
-  std::sort(active.begin(), active.end());
-  std::vector<float>& G = ground.values;
-  constexpr double kOmega = 1.8;  // over-relaxation: Laplace on holes of tens of cells
-  for (int sweep = 0; sweep < 20000 && !active.empty(); ++sweep) {
-    double largest_change = 0.0;
-    for (std::size_t i : active) {
-      double sum = 0.0;
-      int n = 0;
-      neighbours(i, [&](std::size_t j) {
-        if (state[j] != 0) sum += G[j], ++n;
-      });
-      const double update = kOmega * (sum / n - G[i]);
-      G[i] = static_cast<float>(G[i] + update);
-      largest_change = std::max(largest_change, std::abs(update));
-    }
-    if (largest_change < 1e-7) break;
-  }
+  const Neighbours neighbours{H.rows, H.cols};
+  solve_harmonic(reachable_obstacles(state, neighbours), state, neighbours, ground.values);
+
   gt.hazard = obstacle_height_grid(H, ground);
   for (std::size_t i = 0; i < n_cells; ++i) {
     if (std::isnan(H.values[i])) ++gt.cells_unknown;

@@ -143,9 +143,12 @@ GroundTruth dilate_obstacles(const GroundTruth& gt, double radius_m) {
   return out;
 }
 
-MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
-                       double h_min_m, ErrorMaps* maps, const NearRegion* near,
-                       MetricSums* near_sums) {
+namespace {
+
+/// Both grids of the truth and of the layer agree in geometry; h_min and the near radius
+/// are numbers in range.
+void check_score_inputs(const LayerMaps& layer, const GroundTruth& gt, double h_min_m,
+                        const NearRegion* near) {
   check(gt.height.rows > 0 && gt.height.cols > 0, "evaluation: empty ground-truth height grid");
   check(same_geometry(gt.height, gt.hazard),
         "evaluation: ground-truth height and hazard grids differ in size or placement");
@@ -162,7 +165,103 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
   if (layer.has_plane())
     check(same_geometry(layer.slope_x, window) && same_geometry(layer.slope_y, window),
           "evaluation: layer slope and hazard grids differ");
+}
 
+/// The error maps cover the GT pixel block [r0, r1) x [c0, c1): NaN errors, outcome
+/// "outside" until a pixel is scored.
+void reset_error_maps(ErrorMaps& maps, const DenseGrid& g, int r0, int r1, int c0, int c1) {
+  const int rows = r1 - r0, cols = c1 - c0;
+  const double cx = g.x_of_col(c0) + (cols - 1) * g.resolution_m / 2.0;
+  const double cy = g.y_of_row(r0) - (rows - 1) * g.resolution_m / 2.0;
+  maps.abs_error_m.reset(rows, cols, g.resolution_m, cx, cy, static_cast<float>(kNaN));
+  maps.outcome.reset(rows, cols, g.resolution_m, cx, cy, static_cast<float>(PixelOutcome::outside));
+}
+
+/// One GT pixel's contribution to the sums, given what the layer says there (its class,
+/// its height h, NaN if none, and that height's variance, NaN if none) and the truth (the
+/// obstacle height and the ground's z in the map frame); its outcome goes to `outcome`.
+MetricSums pixel_sums(HazardClass cls, double h, double var, double obstacle_m, double z_gt,
+                      double h_min_m, PixelOutcome* outcome) {
+  MetricSums px;
+  px.extent_px = 1;
+  const bool gt_hazard = obstacle_m >= h_min_m;
+  const bool gt_free = obstacle_m <= 0.0;
+  px.gt_hazard_px = gt_hazard;
+  const bool known = cls != HazardClass::unknown;
+  *outcome = PixelOutcome::unknown;
+  if (known) {
+    px.known_px = 1;
+    px.gt_hazard_known_px = gt_hazard;
+    const bool says_hazard = cls == HazardClass::hazard;
+    if (gt_hazard) {
+      *outcome = says_hazard ? PixelOutcome::hazard_ok : PixelOutcome::missed;
+      px.gt_hazard_found_px = says_hazard;
+      px.missed_px = !says_hazard;
+    } else if (gt_free) {
+      *outcome = says_hazard ? PixelOutcome::false_alarm : PixelOutcome::free_ok;
+      px.false_alarm_px = says_hazard;
+    } else {
+      *outcome = PixelOutcome::below_h_min;
+    }
+  }
+  // Heights count whatever the class ("all" sums); the plain sums keep known cells only.
+  if (std::isfinite(h)) {
+    const double e = h - z_gt;
+    if (gt_free) {
+      px.height_all_px = 1;
+      px.sq_error_all_sum_m2 = e * e;
+    }
+    if (std::isfinite(var) && var >= 0.0) {
+      px.variance_all_px = 1;
+      px.violation_all_px = std::abs(e) > 3.0 * std::sqrt(var);
+    }
+    if (known) {
+      px.height_px = px.height_all_px;
+      px.sq_error_sum_m2 = px.sq_error_all_sum_m2;
+      px.variance_px = px.variance_all_px;
+      px.violation_px = px.violation_all_px;
+    }
+  }
+  return px;
+}
+
+/// Deepest below the terrain, over the layer's cells: each published height against the
+/// GT pixel holding the cell centre; into `s` and, inside the near disc, `near_sums`
+/// (`near` and `near_sums` both given or both null).
+void add_depth_below(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
+                     const NearRegion* near, MetricSums& s, MetricSums* near_sums) {
+  const DenseGrid& window = layer.hazard;
+  const DenseGrid& g = gt.height;
+  const Pose3d T_W_map = T_map_W.inverse();
+  for (int mr = 0; mr < window.rows; ++mr)
+    for (int mc = 0; mc < window.cols; ++mc) {
+      const double h = layer.height.at(mr, mc);
+      if (!std::isfinite(h)) continue;
+      const Eigen::Vector3d q_W =
+          T_W_map * Eigen::Vector3d(window.x_of_col(mc), window.y_of_row(mr), h);
+      int r = 0, c = 0;
+      if (!g.cell_at(q_W.x(), q_W.y(), &r, &c)) continue;
+      const double z_gt_W = g.at(r, c);
+      if (!std::isfinite(z_gt_W) || !std::isfinite(static_cast<double>(gt.hazard.at(r, c))))
+        continue;
+      const double z_gt_map = (T_map_W * Eigen::Vector3d(q_W.x(), q_W.y(), z_gt_W)).z();
+      const double below = z_gt_map - h;
+      ++s.height_cells;
+      s.max_below_m = std::max(s.max_below_m, below);
+      if (near != nullptr && near->contains(q_W.x(), q_W.y())) {
+        ++near_sums->height_cells;
+        near_sums->max_below_m = std::max(near_sums->max_below_m, below);
+      }
+    }
+}
+
+}  // namespace
+
+MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose3d& T_map_W,
+                       double h_min_m, ErrorMaps* maps, const NearRegion* near,
+                       MetricSums* near_sums) {
+  check_score_inputs(layer, gt, h_min_m, near);
+  const DenseGrid& window = layer.hazard;
   int r0, r1, c0, c1;
   pixel_bounds(window, gt, T_map_W, &r0, &r1, &c0, &c1);
   const DenseGrid& g = gt.height;
@@ -173,15 +272,7 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
     *near_sums = MetricSums{};
     near_sums->pixel_area_m2 = s.pixel_area_m2;
   }
-  if (maps) {
-    const int rows = r1 - r0, cols = c1 - c0;
-    // Centre of the crop: pixel block [r0, r1) x [c0, c1) of the GT grid.
-    const double cx = g.x_of_col(c0) + (cols - 1) * g.resolution_m / 2.0;
-    const double cy = g.y_of_row(r0) - (rows - 1) * g.resolution_m / 2.0;
-    maps->abs_error_m.reset(rows, cols, g.resolution_m, cx, cy, static_cast<float>(kNaN));
-    maps->outcome.reset(rows, cols, g.resolution_m, cx, cy,
-                        static_cast<float>(PixelOutcome::outside));
-  }
+  if (maps) reset_error_maps(*maps, g, r0, r1, c0, c1);
   const bool with_variance = layer.has_height() && layer.variance.rows > 0;
   for (int r = r0; r < r1; ++r) {
     for (int c = c0; c < c1; ++c) {
@@ -191,85 +282,28 @@ MetricSums score_layer(const LayerMaps& layer, const GroundTruth& gt, const Pose
       const Eigen::Vector3d p_map = T_map_W * Eigen::Vector3d(g.x_of_col(c), g.y_of_row(r), z_gt_W);
       int mr = 0, mc = 0;
       if (!window.cell_at(p_map.x(), p_map.y(), &mr, &mc)) continue;
-      // This pixel's contribution, added to the window's sums and, inside the near disc
-      // (tested at the GT pixel centre in W, where the rover truly is), to the near sums.
-      MetricSums px;
-      px.extent_px = 1;
-      const bool gt_hazard = obstacle_m >= h_min_m;
-      const bool gt_free = obstacle_m <= 0.0;
-      px.gt_hazard_px = gt_hazard;
       HazardClass cls;
       if (!hazard_class_of(window.at(mr, mc), &cls))
         throw Error("evaluation: hazard grid cell (" + std::to_string(mr) + ", " +
                     std::to_string(mc) + ") holds no hazard class (0, 1, 2 or nodata)");
-      const bool known = cls != HazardClass::unknown;
-      PixelOutcome outcome = PixelOutcome::unknown;
-      if (known) {
-        px.known_px = 1;
-        px.gt_hazard_known_px = gt_hazard;
-        const bool says_hazard = cls == HazardClass::hazard;
-        if (gt_hazard) {
-          outcome = says_hazard ? PixelOutcome::hazard_ok : PixelOutcome::missed;
-          px.gt_hazard_found_px = says_hazard;
-          px.missed_px = !says_hazard;
-        } else if (gt_free) {
-          outcome = says_hazard ? PixelOutcome::false_alarm : PixelOutcome::free_ok;
-          px.false_alarm_px = says_hazard;
-        } else {
-          outcome = PixelOutcome::below_h_min;
-        }
-      }
-      // Heights count whatever the class ("all" sums); the plain sums keep known cells only.
       const double h = layer_height_at(layer, p_map.x(), p_map.y());
-      if (std::isfinite(h)) {
-        const double e = h - p_map.z();
-        if (gt_free) {
-          px.height_all_px = 1;
-          px.sq_error_all_sum_m2 = e * e;
-        }
-        const double var = with_variance ? layer.variance.at(mr, mc) : kNaN;
-        if (std::isfinite(var) && var >= 0.0) {
-          px.variance_all_px = 1;
-          px.violation_all_px = std::abs(e) > 3.0 * std::sqrt(var);
-        }
-        if (known) {
-          px.height_px = px.height_all_px;
-          px.sq_error_sum_m2 = px.sq_error_all_sum_m2;
-          px.variance_px = px.variance_all_px;
-          px.violation_px = px.violation_all_px;
-          if (maps) maps->abs_error_m.at(r - r0, c - c0) = static_cast<float>(std::abs(e));
-        }
-      }
+      const double var = with_variance ? layer.variance.at(mr, mc) : kNaN;
+      PixelOutcome outcome;
+      const MetricSums px = pixel_sums(cls, h, var, obstacle_m, p_map.z(), h_min_m, &outcome);
+      // Added to the window's sums and, inside the near disc (tested at the GT pixel centre
+      // in W, where the rover truly is), to the near sums.
       s += px;
       if (with_near && near->contains(g.x_of_col(c), g.y_of_row(r))) *near_sums += px;
-      if (maps) maps->outcome.at(r - r0, c - c0) = static_cast<float>(outcome);
+      if (maps) {
+        if (cls != HazardClass::unknown && std::isfinite(h))
+          maps->abs_error_m.at(r - r0, c - c0) = static_cast<float>(std::abs(h - p_map.z()));
+        maps->outcome.at(r - r0, c - c0) = static_cast<float>(outcome);
+      }
     }
   }
-  // Deepest below the terrain, over the layer's cells: each published height against the
-  // GT pixel holding the cell centre.
-  if (layer.has_height()) {
-    const Pose3d T_W_map = T_map_W.inverse();
-    for (int mr = 0; mr < window.rows; ++mr)
-      for (int mc = 0; mc < window.cols; ++mc) {
-        const double h = layer.height.at(mr, mc);
-        if (!std::isfinite(h)) continue;
-        const Eigen::Vector3d q_W =
-            T_W_map * Eigen::Vector3d(window.x_of_col(mc), window.y_of_row(mr), h);
-        int r = 0, c = 0;
-        if (!g.cell_at(q_W.x(), q_W.y(), &r, &c)) continue;
-        const double z_gt_W = g.at(r, c);
-        if (!std::isfinite(z_gt_W) || !std::isfinite(static_cast<double>(gt.hazard.at(r, c))))
-          continue;
-        const double z_gt_map = (T_map_W * Eigen::Vector3d(q_W.x(), q_W.y(), z_gt_W)).z();
-        const double below = z_gt_map - h;
-        ++s.height_cells;
-        s.max_below_m = std::max(s.max_below_m, below);
-        if (with_near && near->contains(q_W.x(), q_W.y())) {
-          ++near_sums->height_cells;
-          near_sums->max_below_m = std::max(near_sums->max_below_m, below);
-        }
-      }
-  }
+  if (layer.has_height())
+    add_depth_below(layer, gt, T_map_W, with_near ? near : nullptr, s,
+                    with_near ? near_sums : nullptr);
   return s;
 }
 

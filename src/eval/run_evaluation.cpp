@@ -432,6 +432,16 @@ SeenMap read_seen_map(const fs::path& sequence_dir, const GroundTruth& gt, const
   return seen;
 }
 
+/// The columns metrics.csv and summary.csv share, after their frame columns: the layer,
+/// its metrics (and the near ones when `near`), its seen-cell sums when `seen` (and the
+/// near ones when `near_seen`).
+std::string layer_columns(const EvaluatedLayer& layer, const MetricSums& sums,
+                          const MetricSums* near, const SeenSums* seen, const SeenSums* near_seen) {
+  const LayerMetrics nm = near ? derive_metrics(*near) : LayerMetrics{};
+  return csv_layer(layer) + ',' + csv_metrics(derive_metrics(sums), near ? &nm : nullptr) +
+         (seen ? seen_row(*seen, near_seen) : "");
+}
+
 /// metrics.csv: every frame x layer.
 void write_metrics_csv(const RunEvaluation& ev) {
   const fs::path& out = ev.out_dir;
@@ -440,14 +450,12 @@ void write_metrics_csv(const RunEvaluation& ev) {
   std::ostringstream csv;
   csv << csv_header(true, near) << (seen ? seen_header(near) : "") << '\n';
   for (size_t f = 0; f < ev.frames.size(); ++f)
-    for (size_t l = 0; l < ev.layers.size(); ++l) {
-      const LayerMetrics nm = near ? derive_metrics(ev.near_sums[f][l]) : LayerMetrics{};
+    for (size_t l = 0; l < ev.layers.size(); ++l)
       csv << ev.frames[f] << ',' << fmt(frame_number(ev.frames[f], f)) << ','
-          << csv_layer(ev.layers[l]) << ','
-          << csv_metrics(derive_metrics(ev.sums[f][l]), near ? &nm : nullptr)
-          << (seen ? seen_row(ev.seen_sums[f][l], near ? &ev.near_seen_sums[f][l] : nullptr) : "")
+          << layer_columns(ev.layers[l], ev.sums[f][l], near ? &ev.near_sums[f][l] : nullptr,
+                           seen ? &ev.seen_sums[f][l] : nullptr,
+                           seen && near ? &ev.near_seen_sums[f][l] : nullptr)
           << '\n';
-    }
   write_file_atomically(out / "metrics.csv", csv.str());
 }
 
@@ -468,13 +476,12 @@ void write_summary_csv(const RunEvaluation& ev) {
   if (gated)
     for (const char* name : gated_fields) sum << ",near_gated_" << name;
   sum << '\n';
-  for (size_t l = 0; l < ev.layers.size(); ++l) {
-    const LayerMetrics nm = near ? derive_metrics(ev.near_pooled[l]) : LayerMetrics{};
-    sum << ev.frames.size() << ',' << csv_layer(ev.layers[l]) << ','
-        << csv_metrics(derive_metrics(ev.pooled[l]), near ? &nm : nullptr)
-        << (seen ? seen_row(ev.seen_pooled[l], near ? &ev.near_seen_pooled[l] : nullptr) : "")
+  for (size_t l = 0; l < ev.layers.size(); ++l)
+    sum << ev.frames.size() << ','
+        << layer_columns(ev.layers[l], ev.pooled[l], near ? &ev.near_pooled[l] : nullptr,
+                         seen ? &ev.seen_pooled[l] : nullptr,
+                         seen && near ? &ev.near_seen_pooled[l] : nullptr)
         << (gated ? gated_row(ev.near_gated_pooled[l]) : "") << '\n';
-  }
   write_file_atomically(out / "summary.csv", sum.str());
 }
 
@@ -778,6 +785,302 @@ void write_outputs(const EvaluationOptions& options, const RunEvaluation& ev,
   if (options.write_report) write_report(options, ev, error_pngs);
 }
 
+/// The run's frame folders, sorted by name.
+std::vector<std::string> run_frames(const fs::path& frames_dir) {
+  if (!fs::is_directory(frames_dir)) throw Error(frames_dir.string() + ": missing");
+  std::vector<std::string> frames;
+  for (const auto& entry : fs::directory_iterator(frames_dir))
+    if (entry.is_directory()) frames.push_back(entry.path().filename().string());
+  std::sort(frames.begin(), frames.end());
+  if (frames.empty()) throw Error(frames_dir.string() + ": no frame folders");
+  return frames;
+}
+
+/// The footprint map is newer than the others: a run without it is scored without it (and
+/// one with it in some frames only, too, with a warning).
+bool footprint_in_every_frame(const fs::path& frames_dir, const std::vector<std::string>& frames) {
+  size_t footprint_frames = 0;
+  for (const std::string& f : frames)
+    footprint_frames +=
+        fs::exists(frames_dir / f / run_layout::jdem_file(run_layout::kFootprintHazard));
+  if (footprint_frames == frames.size()) return true;
+  if (footprint_frames > 0)
+    spdlog::warn("footprint_hazard.jdem is in {} of {} frames only: footprint not scored",
+                 footprint_frames, frames.size());
+  return false;
+}
+
+/// The sequence's poses: poses.txt (those the run used) and, when the run drove on
+/// drifted poses, poses_true.txt.
+struct SequencePoses {
+  fs::path used_file, true_file;
+  std::map<std::string, Pose3d> used, truth;
+  bool drifted = false;  ///< poses_true.txt is there
+
+  explicit SequencePoses(const fs::path& sequence_dir)
+      : used_file(sequence_dir / "poses.txt"), true_file(sequence_dir / "poses_true.txt") {
+    used = read_pose_map(used_file);
+    drifted = fs::exists(true_file);
+    if (drifted) truth = read_pose_map(true_file);
+  }
+  /// Where the rover truly was, and the file that says so.
+  const std::map<std::string, Pose3d>& true_poses() const { return drifted ? truth : used; }
+  const fs::path& true_pose_file() const { return drifted ? true_file : used_file; }
+
+  /// Ground truth (W) to the run's map frame: the identity, or used * true^-1 for a run on
+  /// drifted poses.
+  Pose3d T_map_W(const std::string& frame) const {
+    if (!drifted) return Pose3d::Identity();
+    const auto u = used.find(frame);
+    const auto t = truth.find(frame);
+    if (u == used.end()) throw Error(used_file.string() + ": no pose for frame " + frame);
+    if (t == truth.end()) throw Error(true_file.string() + ": no pose for frame " + frame);
+    return u->second * t->second.inverse();
+  }
+};
+
+/// The vouching layers' most permissive lateral gate (none if one has no gate).
+LateralGate vouching_gate(const Config& config, const HazardParams& hazard_params) {
+  LateralGate gate;
+  gate.ray_model = config.sensor.model == SensorModel::ray;
+  gate.pointing_px = config.sensor.pointing_error_px;
+  gate.matching_px = config.sensor.disparity_error_px;
+  if (config.stereo.matcher != StereoMatcher::c2f)
+    gate.blank_columns = config.stereo.min_disparity + config.stereo.num_disparities;
+  for (size_t i = 0; i < config.map.layers.size(); ++i) {
+    if (hazard_params.layers[i].h_min_m > hazard_params.critical_height_m) continue;
+    const double g = gate_std_m(config.map.layers[i], config.rules);
+    gate.max_std_m = g > 0.0 ? std::max(gate.max_std_m, g) : std::numeric_limits<double>::infinity();
+  }
+  return gate;
+}
+
+/// Seen cells (issue 34), from the sequence's depth images: all seen, and seen within the
+/// vouching layers' lateral gate; each also as "whole footprint disc seen".
+struct SeenCells {
+  std::vector<int> index;  ///< per written frame: its last depth frame
+  std::optional<SeenMap> seen, footprint, gated, gated_footprint;
+
+  const SeenMap& seen_for(const EvaluatedLayer& L) const {
+    return L.gt_dilation_m > 0.0 ? *footprint : *seen;
+  }
+  const SeenMap& gated_for(const EvaluatedLayer& L) const {
+    return L.gt_dilation_m > 0.0 ? *gated_footprint : *gated;
+  }
+};
+
+SeenCells read_seen_cells(const fs::path& sequence_dir, const GroundTruth& gt,
+                          const Config& config, const SequencePoses& poses,
+                          const std::vector<std::string>& frames, bool with_footprint) {
+  const HazardParams hazard_params = resolve_hazard_params(config);
+  const LateralGate gate = vouching_gate(config, hazard_params);
+  SeenCells s;
+  s.gated.emplace(gt.height);
+  s.seen.emplace(read_seen_map(sequence_dir, gt, config, poses.true_poses(),
+                               poses.true_pose_file(), frames, &s.index, gate, &*s.gated));
+  if (with_footprint) {
+    s.footprint.emplace(s.seen->whole_disc(hazard_params.footprint_radius_m));
+    s.gated_footprint.emplace(s.gated->whole_disc(hazard_params.footprint_radius_m));
+  }
+  return s;
+}
+
+/// --error-maps: the frames to draw (default: the last one; "all": every one).
+struct ErrorMapFrames {
+  std::set<std::string> names;
+  bool all = false;
+  bool wanted(const std::string& frame) const { return all || names.count(frame) > 0; }
+};
+
+ErrorMapFrames error_map_frames(const EvaluationOptions& options,
+                                const std::vector<std::string>& frames) {
+  ErrorMapFrames e;
+  e.names.insert(options.error_map_frames.begin(), options.error_map_frames.end());
+  if (e.names.empty()) e.names.insert(frames.back());
+  e.all = e.names.count("all") > 0;
+  for (const std::string& f : e.names)
+    if (f != "all" && !std::binary_search(frames.begin(), frames.end(), f))
+      throw Error("--error-maps: frame '" + f + "' was not written by the run");
+  return e;
+}
+
+/// The ground truth each layer is scored against: the footprint map's has its obstacles
+/// dilated by the footprint radius (one per radius in use, made once).
+class LayerTruths {
+ public:
+  LayerTruths(const GroundTruth& gt, const std::vector<EvaluatedLayer>& layers) : gt_(gt) {
+    for (const EvaluatedLayer& L : layers)
+      if (L.gt_dilation_m > 0.0 && !dilated_.count(L.gt_dilation_m))
+        dilated_.emplace(L.gt_dilation_m, dilate_obstacles(gt, L.gt_dilation_m));
+  }
+  const GroundTruth& operator()(const EvaluatedLayer& L) const {
+    return L.gt_dilation_m > 0.0 ? dilated_.at(L.gt_dilation_m) : gt_;
+  }
+
+ private:
+  const GroundTruth& gt_;
+  std::map<double, GroundTruth> dilated_;
+};
+
+/// The --near disc of a frame: around where the rover truly is (poses_true.txt when the
+/// run drove on drifted poses).
+NearRegion near_region(const SequencePoses& poses, const std::string& frame, double radius_m) {
+  const auto p = poses.true_poses().find(frame);
+  if (p == poses.true_poses().end())
+    throw Error(poses.true_pose_file().string() + ": no pose for frame " + frame + " (--near)");
+  NearRegion near;
+  near.x_m = p->second.translation().x();
+  near.y_m = p->second.translation().y();
+  near.radius_m = radius_m;
+  return near;
+}
+
+/// The unknown-reason grid a seen-cell score reads for layer l of a frame: L<i>'s from
+/// the run (when it wrote them), the fused map's made from the layers' (frame_layers and
+/// frame_reasons: this frame's layers before l). Empty: none recorded.
+DenseGrid unknown_reasons(const fs::path& frame_dir, const std::vector<EvaluatedLayer>& layers,
+                          size_t l, const std::vector<LayerMaps>& frame_layers,
+                          const std::vector<DenseGrid>& frame_reasons) {
+  const EvaluatedLayer& L = layers[l];
+  DenseGrid reasons;
+  if (L.index >= 0) {
+    const fs::path file = frame_dir / (L.name + "_unknown_reason.jdem");
+    if (fs::exists(file)) reasons = read_dense_grid(file);
+  } else if (L.name == "fused") {
+    std::vector<ReasonLayer> inputs;
+    for (size_t k = 0; k < l; ++k)
+      if (layers[k].index >= 0)
+        inputs.push_back({&frame_layers[k].hazard,
+                          frame_reasons[k].rows > 0 ? &frame_reasons[k] : nullptr,
+                          layers[k].h_min_m});
+    const bool recorded = std::any_of(inputs.begin(), inputs.end(),
+                                      [](const ReasonLayer& r) { return r.reasons; });
+    if (recorded) reasons = fused_unknown_reasons(inputs, L.h_min_m, frame_layers[l].hazard);
+  }
+  return reasons;
+}
+
+/// A layer's two error-map tiles: |h - h_gt| (a blank square for the hazard-only maps)
+/// and each ground-truth pixel's outcome.
+void add_error_tiles(const EvaluatedLayer& L, const ErrorMaps& maps, std::vector<cv::Mat>& tiles) {
+  const std::string label = L.name + " " + fmt(L.resolution_m * 100, "%g") + " cm " + L.rule;
+  const DenseGrid err = reduce(maps.abs_error_m, 300, false);
+  const DenseGrid out = reduce(maps.outcome, 300, true);
+  const int scale = std::max(
+      1, static_cast<int>(std::lround(300.0 / std::max(1, std::max(err.rows, err.cols)))));
+  if (L.index >= 0)
+    tiles.push_back(render_scalar_grid(err, 0.0, 0.05, label + ": |h - h_gt| (clamped)", "m", scale));
+  else
+    tiles.push_back(cv::Mat(24, 24, CV_8UC3, cv::Scalar(255, 255, 255)));
+  tiles.push_back(render_outcomes(out, label + ": h_min " + cm(L.h_min_m, "%.1f") + " cm", scale));
+}
+
+/// A frame's error-map page, PNG-encoded: the tiles two by two over the outcome legend.
+std::vector<unsigned char> error_page_png(const std::vector<cv::Mat>& tiles, const fs::path& file) {
+  cv::Mat grid = tile_images(tiles, 2);
+  const cv::Mat legend = outcome_legend();
+  cv::Mat page(grid.rows + legend.rows, std::max(grid.cols, legend.cols), CV_8UC3,
+               cv::Scalar(255, 255, 255));
+  grid.copyTo(page(cv::Rect(0, 0, grid.cols, grid.rows)));
+  legend.copyTo(page(cv::Rect(0, grid.rows, legend.cols, legend.rows)));
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", page, png)) throw Error(file.string() + ": PNG encoding failed");
+  return png;
+}
+
+/// What every frame is scored with: the run's frames folder, the truths, the poses and
+/// the seen cells (when the sequence has depth images).
+struct FrameScorer {
+  const EvaluationOptions& options;
+  fs::path frames_dir;
+  const LayerTruths& truth_for;
+  const SequencePoses& poses;
+  const SeenCells* seen;  ///< null: no depth images
+
+  /// Scores frame f's every layer into ev (its rows and the pooled sums); its error-map
+  /// page, when wanted, into error_pages.
+  void score(RunEvaluation& ev, size_t f, bool maps_wanted,
+             std::vector<std::pair<std::string, std::vector<unsigned char>>>& error_pages) const;
+
+  /// One layer's metrics; an error names the frame's layer files.
+  MetricSums score_metrics(const std::string& frame, const EvaluatedLayer& L,
+                           const LayerMaps& layer, const Pose3d& T_map_W, ErrorMaps* maps,
+                           const NearRegion* near, MetricSums* near_sums) const {
+    try {
+      return score_layer(layer, truth_for(L), T_map_W, L.h_min_m, maps, near, near_sums);
+    } catch (const Error& e) {
+      // The grids' own check knows no file: name the frame's layer files here.
+      throw Error((frames_dir / frame / (L.name + "_*.jdem")).string() + " (frame " + frame +
+                  "): " + e.what());
+    }
+  }
+};
+
+void FrameScorer::score(
+    RunEvaluation& ev, size_t f, bool maps_wanted,
+    std::vector<std::pair<std::string, std::vector<unsigned char>>>& error_pages) const {
+  const std::string& name = ev.frames[f];
+  const Pose3d T_map_W = poses.T_map_W(name);
+  const bool with_near = options.near_enabled();
+  NearRegion near;
+  if (with_near) near = near_region(poses, name, options.near_radius_m);
+  std::vector<cv::Mat> tiles;
+  std::vector<MetricSums> row, near_row;
+  std::vector<SeenSums> seen_row, near_seen_row;
+  std::vector<LayerMaps> frame_layers;  // this frame's layers, for the fused map's reasons
+  std::vector<DenseGrid> frame_reasons;
+  for (size_t l = 0; l < ev.layers.size(); ++l) {
+    const EvaluatedLayer& L = ev.layers[l];
+    frame_layers.push_back(read_layer(frames_dir / name, L));
+    const LayerMaps& layer = frame_layers.back();
+    ErrorMaps maps;
+    MetricSums near_sums;
+    const MetricSums s = score_metrics(name, L, layer, T_map_W, maps_wanted ? &maps : nullptr,
+                                       with_near ? &near : nullptr, &near_sums);
+    ev.pooled[l] += s;
+    row.push_back(s);
+    if (with_near) {
+      ev.near_pooled[l] += near_sums;
+      near_row.push_back(near_sums);
+    }
+    if (seen) {
+      DenseGrid reasons = unknown_reasons(frames_dir / name, ev.layers, l, frame_layers,
+                                          frame_reasons);
+      const int k = seen->index[f];
+      SeenSums ss, ns;
+      try {
+        ss = score_seen(layer.hazard, &reasons, truth_for(L), seen->seen_for(L), k, T_map_W,
+                        L.h_min_m);
+        if (with_near) {
+          ns = score_seen(layer.hazard, &reasons, truth_for(L), seen->seen_for(L), k, T_map_W,
+                          L.h_min_m, &near);
+          ev.near_gated_pooled[l] += score_seen(layer.hazard, &reasons, truth_for(L),
+                                                seen->gated_for(L), k, T_map_W, L.h_min_m, &near);
+        }
+      } catch (const Error& e) {
+        throw Error((frames_dir / name / (L.name + "_*.jdem")).string() + " (frame " + name +
+                    "): " + e.what());
+      }
+      ev.seen_pooled[l] += ss;
+      seen_row.push_back(ss);
+      if (with_near) {
+        ev.near_seen_pooled[l] += ns;
+        near_seen_row.push_back(ns);
+      }
+      frame_reasons.push_back(std::move(reasons));
+    }
+    if (maps_wanted) add_error_tiles(L, maps, tiles);
+  }
+  ev.sums.push_back(std::move(row));
+  if (with_near) ev.near_sums.push_back(std::move(near_row));
+  if (seen) {
+    ev.seen_sums.push_back(std::move(seen_row));
+    if (with_near) ev.near_seen_sums.push_back(std::move(near_seen_row));
+  }
+  if (maps_wanted)
+    error_pages.emplace_back(name, error_page_png(tiles, ev.out_dir / ("errors_" + name + ".png")));
+}
+
 }  // namespace
 
 RunEvaluation evaluate_run(const EvaluationOptions& options) {
@@ -792,60 +1095,18 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
   const GroundTruth gt = read_ground_truth(options.sequence_dir);
 
   const fs::path frames_dir = options.run_dir / run_layout::kFramesDir;
-  if (!fs::is_directory(frames_dir)) throw Error(frames_dir.string() + ": missing");
-  for (const auto& entry : fs::directory_iterator(frames_dir))
-    if (entry.is_directory()) ev.frames.push_back(entry.path().filename().string());
-  std::sort(ev.frames.begin(), ev.frames.end());
-  if (ev.frames.empty()) throw Error(frames_dir.string() + ": no frame folders");
-
-  // The footprint map is newer than the others: a run without it is scored without it.
-  bool with_footprint = true;
-  size_t footprint_frames = 0;
-  for (const std::string& f : ev.frames)
-    footprint_frames +=
-        fs::exists(frames_dir / f / run_layout::jdem_file(run_layout::kFootprintHazard));
-  if (footprint_frames < ev.frames.size()) {
-    with_footprint = false;
-    if (footprint_frames > 0)
-      spdlog::warn("footprint_hazard.jdem is in {} of {} frames only: footprint not scored",
-                   footprint_frames, ev.frames.size());
-  }
+  ev.frames = run_frames(frames_dir);
+  const bool with_footprint = footprint_in_every_frame(frames_dir, ev.frames);
   ev.layers = evaluated_layers(config, with_footprint);
   ev.near_radius_m = options.near_enabled() ? options.near_radius_m : -1.0;
   if (options.near_enabled())
     check(std::isfinite(options.near_radius_m), "--near: the radius must be a finite number");
 
-  std::map<std::string, Pose3d> used = read_pose_map(options.sequence_dir / "poses.txt");
-  std::map<std::string, Pose3d> truth;
-  ev.used_true_poses = fs::exists(options.sequence_dir / "poses_true.txt");
-  if (ev.used_true_poses) truth = read_pose_map(options.sequence_dir / "poses_true.txt");
-
-  // Seen cells (issue 34): from the sequence's depth images, when it has them.
-  std::vector<int> seen_index;
-  std::optional<SeenMap> seen, seen_footprint, gated, gated_footprint;
+  const SequencePoses poses(options.sequence_dir);
+  ev.used_true_poses = poses.drifted;
+  std::optional<SeenCells> seen;
   if (fs::is_directory(options.sequence_dir / "depth")) {
-    const fs::path pose_file =
-        options.sequence_dir / (ev.used_true_poses ? "poses_true.txt" : "poses.txt");
-    // The vouching layers' most permissive lateral gate (none if one has no gate).
-    const HazardParams hazard_params = resolve_hazard_params(config);
-    LateralGate gate;
-    gate.ray_model = config.sensor.model == SensorModel::ray;
-    gate.pointing_px = config.sensor.pointing_error_px;
-    gate.matching_px = config.sensor.disparity_error_px;
-    if (config.stereo.matcher != StereoMatcher::c2f)
-      gate.blank_columns = config.stereo.min_disparity + config.stereo.num_disparities;
-    for (size_t i = 0; i < config.map.layers.size(); ++i) {
-      if (hazard_params.layers[i].h_min_m > hazard_params.critical_height_m) continue;
-      const double g = gate_std_m(config.map.layers[i], config.rules);
-      gate.max_std_m = g > 0.0 ? std::max(gate.max_std_m, g) : std::numeric_limits<double>::infinity();
-    }
-    gated.emplace(gt.height);
-    seen.emplace(read_seen_map(options.sequence_dir, gt, config, ev.used_true_poses ? truth : used,
-                               pose_file, ev.frames, &seen_index, gate, &*gated));
-    if (with_footprint) {
-      seen_footprint.emplace(seen->whole_disc(hazard_params.footprint_radius_m));
-      gated_footprint.emplace(gated->whole_disc(hazard_params.footprint_radius_m));
-    }
+    seen = read_seen_cells(options.sequence_dir, gt, config, poses, ev.frames, with_footprint);
     ev.seen_enabled = true;
     ev.seen_pooled.assign(ev.layers.size(), SeenSums{});
     if (options.near_enabled()) {
@@ -853,159 +1114,19 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
       ev.near_gated_pooled.assign(ev.layers.size(), SeenSums{});
     }
   }
-
-  std::set<std::string> error_frames(options.error_map_frames.begin(),
-                                     options.error_map_frames.end());
-  if (error_frames.empty()) error_frames.insert(ev.frames.back());
-  const bool all_error_maps = error_frames.count("all") > 0;
-  for (const std::string& f : error_frames)
-    if (f != "all" && !std::binary_search(ev.frames.begin(), ev.frames.end(), f))
-      throw Error("--error-maps: frame '" + f + "' was not written by the run");
+  const ErrorMapFrames error_frames = error_map_frames(options, ev.frames);
 
   // Every frame is read and scored before anything is written: a corrupt frame leaves OUT
   // as it was. The error-map pages wait in memory till then, PNG-encoded (tens of kB each).
   std::vector<std::pair<std::string, std::vector<unsigned char>>> error_pages;
   ev.pooled.assign(ev.layers.size(), MetricSums{});
   if (options.near_enabled()) ev.near_pooled.assign(ev.layers.size(), MetricSums{});
-  // Dilated truths, one per radius in use (the footprint map's), made once.
-  std::map<double, GroundTruth> dilated;
-  for (const EvaluatedLayer& L : ev.layers)
-    if (L.gt_dilation_m > 0.0 && !dilated.count(L.gt_dilation_m))
-      dilated.emplace(L.gt_dilation_m, dilate_obstacles(gt, L.gt_dilation_m));
-  const auto truth_for = [&](const EvaluatedLayer& L) -> const GroundTruth& {
-    return L.gt_dilation_m > 0.0 ? dilated.at(L.gt_dilation_m) : gt;
-  };
+  const LayerTruths truths(gt, ev.layers);
+  const FrameScorer scorer{options, frames_dir, truths, poses, seen ? &*seen : nullptr};
   const Progress progress(static_cast<int>(ev.frames.size()));
   for (size_t f = 0; f < ev.frames.size(); ++f) {
-    const std::string& name = ev.frames[f];
-    Pose3d T_map_W = Pose3d::Identity();
-    if (ev.used_true_poses) {
-      const auto u = used.find(name);
-      const auto t = truth.find(name);
-      if (u == used.end())
-        throw Error((options.sequence_dir / "poses.txt").string() + ": no pose for frame " + name);
-      if (t == truth.end())
-        throw Error((options.sequence_dir / "poses_true.txt").string() + ": no pose for frame " +
-                    name);
-      T_map_W = u->second * t->second.inverse();
-    }
-    NearRegion near;
-    if (options.near_enabled()) {
-      // Where the rover truly is: poses_true.txt when the run drove on drifted poses.
-      const fs::path file = options.sequence_dir / (ev.used_true_poses ? "poses_true.txt" : "poses.txt");
-      const auto& poses = ev.used_true_poses ? truth : used;
-      const auto p = poses.find(name);
-      if (p == poses.end()) throw Error(file.string() + ": no pose for frame " + name + " (--near)");
-      near.x_m = p->second.translation().x();
-      near.y_m = p->second.translation().y();
-      near.radius_m = options.near_radius_m;
-    }
-    const bool maps_wanted = all_error_maps || error_frames.count(name) > 0;
-    std::vector<cv::Mat> tiles;
-    std::vector<MetricSums> row, near_row;
-    std::vector<SeenSums> seen_row, near_seen_row;
-    std::vector<LayerMaps> frame_layers;  // this frame's layers, for the fused map's reasons
-    std::vector<DenseGrid> frame_reasons;
-    for (size_t l = 0; l < ev.layers.size(); ++l) {
-      frame_layers.push_back(read_layer(frames_dir / name, ev.layers[l]));
-      const LayerMaps& layer = frame_layers.back();
-      ErrorMaps maps;
-      MetricSums near_sums;
-      MetricSums s;
-      try {
-        s = score_layer(layer, truth_for(ev.layers[l]), T_map_W, ev.layers[l].h_min_m,
-                        maps_wanted ? &maps : nullptr, options.near_enabled() ? &near : nullptr,
-                        &near_sums);
-      } catch (const Error& e) {
-        // The grids' own check knows no file: name the frame's layer files here.
-        throw Error((frames_dir / name / (ev.layers[l].name + "_*.jdem")).string() + " (frame " +
-                    name + "): " + e.what());
-      }
-      ev.pooled[l] += s;
-      row.push_back(s);
-      if (options.near_enabled()) {
-        ev.near_pooled[l] += near_sums;
-        near_row.push_back(near_sums);
-      }
-      if (seen) {
-        const EvaluatedLayer& L = ev.layers[l];
-        DenseGrid reasons;
-        if (L.index >= 0) {
-          const fs::path file = frames_dir / name / (L.name + "_unknown_reason.jdem");
-          if (fs::exists(file)) reasons = read_dense_grid(file);
-        } else if (L.name == "fused") {
-          std::vector<ReasonLayer> inputs;
-          for (size_t k = 0; k < l; ++k)
-            if (ev.layers[k].index >= 0)
-              inputs.push_back({&frame_layers[k].hazard,
-                                frame_reasons[k].rows > 0 ? &frame_reasons[k] : nullptr,
-                                ev.layers[k].h_min_m});
-          const bool recorded = std::any_of(inputs.begin(), inputs.end(),
-                                            [](const ReasonLayer& r) { return r.reasons; });
-          if (recorded)
-            reasons = fused_unknown_reasons(inputs, L.h_min_m, layer.hazard);
-        }
-        const SeenMap& where = L.gt_dilation_m > 0.0 ? *seen_footprint : *seen;
-        SeenSums ss, ns;
-        try {
-          ss = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
-                          L.h_min_m);
-          if (options.near_enabled()) {
-            ns = score_seen(layer.hazard, &reasons, truth_for(L), where, seen_index[f], T_map_W,
-                            L.h_min_m, &near);
-            ev.near_gated_pooled[l] +=
-                score_seen(layer.hazard, &reasons, truth_for(L),
-                           L.gt_dilation_m > 0.0 ? *gated_footprint : *gated, seen_index[f],
-                           T_map_W, L.h_min_m, &near);
-          }
-        } catch (const Error& e) {
-          throw Error((frames_dir / name / (L.name + "_*.jdem")).string() + " (frame " + name +
-                      "): " + e.what());
-        }
-        ev.seen_pooled[l] += ss;
-        seen_row.push_back(ss);
-        if (options.near_enabled()) {
-          ev.near_seen_pooled[l] += ns;
-          near_seen_row.push_back(ns);
-        }
-        frame_reasons.push_back(std::move(reasons));
-      }
-      if (maps_wanted) {
-        const std::string label = ev.layers[l].name + " " +
-                                  fmt(ev.layers[l].resolution_m * 100, "%g") + " cm " +
-                                  ev.layers[l].rule;
-        const DenseGrid err = reduce(maps.abs_error_m, 300, false);
-        const DenseGrid out = reduce(maps.outcome, 300, true);
-        const int scale = std::max(
-            1, static_cast<int>(std::lround(300.0 / std::max(1, std::max(err.rows, err.cols)))));
-        if (ev.layers[l].index >= 0)
-          tiles.push_back(render_scalar_grid(err, 0.0, 0.05, label + ": |h - h_gt| (clamped)",
-                                             "m", scale));
-        else
-          tiles.push_back(cv::Mat(24, 24, CV_8UC3, cv::Scalar(255, 255, 255)));
-        tiles.push_back(render_outcomes(out, label + ": h_min " + cm(ev.layers[l].h_min_m, "%.1f") +
-                                                 " cm", scale));
-      }
-    }
-    ev.sums.push_back(std::move(row));
-    if (options.near_enabled()) ev.near_sums.push_back(std::move(near_row));
-    if (seen) {
-      ev.seen_sums.push_back(std::move(seen_row));
-      if (options.near_enabled()) ev.near_seen_sums.push_back(std::move(near_seen_row));
-    }
-    if (maps_wanted) {
-      cv::Mat grid = tile_images(tiles, 2);
-      const cv::Mat legend = outcome_legend();
-      cv::Mat page(grid.rows + legend.rows, std::max(grid.cols, legend.cols), CV_8UC3,
-                   cv::Scalar(255, 255, 255));
-      grid.copyTo(page(cv::Rect(0, 0, grid.cols, grid.rows)));
-      legend.copyTo(page(cv::Rect(0, grid.rows, legend.cols, legend.rows)));
-      std::vector<unsigned char> png;
-      if (!cv::imencode(".png", page, png))
-        throw Error((ev.out_dir / ("errors_" + name + ".png")).string() + ": PNG encoding failed");
-      error_pages.emplace_back(name, std::move(png));
-    }
-    spdlog::info("evaluated frame {} {}", name, progress.step(static_cast<int>(f) + 1));
+    scorer.score(ev, f, error_frames.wanted(ev.frames[f]), error_pages);
+    spdlog::info("evaluated frame {} {}", ev.frames[f], progress.step(static_cast<int>(f) + 1));
   }
   fs::create_directories(ev.out_dir);
   std::vector<std::pair<std::string, fs::path>> error_pngs;

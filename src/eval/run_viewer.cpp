@@ -603,13 +603,8 @@ RunContent read_run(const fs::path& run_dir) {
   return c;
 }
 
-/// The page's data as JSON (run_viewer.js reads it): everything but the grids, which
-/// follow as one element per frame.
-std::string data_json(const RunContent& c) {
-  JsonWriter j;
-  j.begin_object();
-  j.key("title").value(c.title);
-  j.key("clip_pct").value(c.clip_pct);
+/// "maps": what each map is and its height and sigma ranges over the whole run.
+void write_map_specs(JsonWriter& j, const RunContent& c) {
   j.key("maps").begin_array();
   for (size_t m = 0; m < c.maps.size(); ++m) {
     const MapSpec& s = c.maps[m];
@@ -632,39 +627,48 @@ std::string data_json(const RunContent& c) {
     j.end_object();
   }
   j.end_array();
+}
 
+/// One frame's map: its geometry, where its arrays lie in the frame's bytes, its ranges.
+void write_packed_map(JsonWriter& j, const PackedMap& p) {
+  j.begin_object();
+  j.key("rows").value(p.rows);
+  j.key("cols").value(p.cols);
+  j.key("resolution_m").value(p.resolution_m);
+  j.key("center_m").begin_array().value(p.center_x_m).value(p.center_y_m).end_array();
+  j.key("arrays").begin_object();  // quantity: [type, byte offset, count]
+  for (const auto& [quantity, a] : p.arrays) {
+    j.key(quantity).begin_array();
+    j.value(a.type == PackedType::float32 ? "f32" : "class");
+    j.value(a.offset).value(a.count);
+    j.end_array();
+  }
+  j.end_object();
+  j.key("range").begin_object();
+  j.key("height");
+  range_value(j, p.height_range);
+  j.key("sigma");
+  range_value(j, p.sigma_range);
+  j.end_object();
+  j.end_object();
+}
+
+/// "frames": one element per written frame.
+void write_packed_frames(JsonWriter& j, const RunContent& c) {
   j.key("frames").begin_array();
   for (const PackedFrame& f : c.frames) {
     j.begin_object();
     j.key("name").value(f.name);
     j.key("maps").begin_array();
-    for (const PackedMap& p : f.maps) {
-      j.begin_object();
-      j.key("rows").value(p.rows);
-      j.key("cols").value(p.cols);
-      j.key("resolution_m").value(p.resolution_m);
-      j.key("center_m").begin_array().value(p.center_x_m).value(p.center_y_m).end_array();
-      j.key("arrays").begin_object();  // quantity: [type, byte offset, count]
-      for (const auto& [quantity, a] : p.arrays) {
-        j.key(quantity).begin_array();
-        j.value(a.type == PackedType::float32 ? "f32" : "class");
-        j.value(a.offset).value(a.count);
-        j.end_array();
-      }
-      j.end_object();
-      j.key("range").begin_object();
-      j.key("height");
-      range_value(j, p.height_range);
-      j.key("sigma");
-      range_value(j, p.sigma_range);
-      j.end_object();
-      j.end_object();
-    }
+    for (const PackedMap& p : f.maps) write_packed_map(j, p);
     j.end_array();
     j.end_object();
   }
   j.end_array();
+}
 
+/// "processed": summary.json's per-frame series, every frame processed.
+void write_processed_series(JsonWriter& j, const RunContent& c) {
   const FrameSeries& s = c.series;
   j.key("processed").begin_object();
   j.key("names");
@@ -692,7 +696,10 @@ std::string data_json(const RunContent& c) {
   }
   j.end_object();
   j.end_object();
+}
 
+/// "poses": the rover's path.
+void write_poses(JsonWriter& j, const RunContent& c) {
   j.key("poses").begin_object();
   j.key("source").value(c.pose_source);
   std::vector<double> x, y, yaw;
@@ -704,25 +711,40 @@ std::string data_json(const RunContent& c) {
   j.key("yaw_rad");
   number_array(j, yaw);
   j.end_object();
+}
 
-  if (c.eval.present) {
-    j.key("eval").begin_object();
-    j.key("frames");
-    string_array(j, c.eval.frames);
-    j.key("layers");
-    string_array(j, c.eval.layers);
-    j.key("per_frame").begin_object();  // metric: {layer: per frame}
-    for (const auto& [metric, by_layer] : c.eval.per_frame) {
-      j.key(metric).begin_object();
-      for (const auto& [layer, v] : by_layer) {
-        j.key(layer);
-        number_array(j, v);
-      }
-      j.end_object();
+/// "eval": the evaluation's per-frame metrics, when the run has been evaluated.
+void write_eval_metrics(JsonWriter& j, const RunContent& c) {
+  j.key("eval").begin_object();
+  j.key("frames");
+  string_array(j, c.eval.frames);
+  j.key("layers");
+  string_array(j, c.eval.layers);
+  j.key("per_frame").begin_object();  // metric: {layer: per frame}
+  for (const auto& [metric, by_layer] : c.eval.per_frame) {
+    j.key(metric).begin_object();
+    for (const auto& [layer, v] : by_layer) {
+      j.key(layer);
+      number_array(j, v);
     }
     j.end_object();
-    j.end_object();
   }
+  j.end_object();
+  j.end_object();
+}
+
+/// The page's data as JSON (run_viewer.js reads it): everything but the grids, which
+/// follow as one element per frame.
+std::string data_json(const RunContent& c) {
+  JsonWriter j;
+  j.begin_object();
+  j.key("title").value(c.title);
+  j.key("clip_pct").value(c.clip_pct);
+  write_map_specs(j, c);
+  write_packed_frames(j, c);
+  write_processed_series(j, c);
+  write_poses(j, c);
+  if (c.eval.present) write_eval_metrics(j, c);
   j.key("colour_maps").begin_object();
   j.key("height").value(colour_map_hex(cv::COLORMAP_VIRIDIS));
   j.key("sigma").value(colour_map_hex(cv::COLORMAP_INFERNO));

@@ -52,70 +52,63 @@ struct RunState {
   FrameWriter::Stats writer;
 };
 
-void write_summary(const std::filesystem::path& path, const Config& config,
-                   const Sequence& sequence, const RunOptions& options,
-                   const std::vector<FrameRecord>& frames,
-                   int frames_total, const RunState& state) {
-  JsonWriter j;
-  j.begin_object();
-  j.key("hazmap_version").value(HAZMAP_VERSION);
-  j.key("finished").value(state.finished);
-  if (state.stop_signal != 0) {
-    j.key("stopped_by_signal").value(state.stop_signal);
-    j.key("stopped_after_frame").value(frames.empty() ? std::string() : frames.back().name);
-  }
-  // Which sequence made these frames, for `hazmap evaluate` to check (issue 22): its
-  // folder, absolute, and the fingerprint of all its poses, not only the frames
-  // selected, so that a run of --frames A:B still matches its sequence.
-  j.key("sequence").value(absolute_folder(options.sequence_dir).string());
-  j.key("poses_fingerprint").value(fingerprint_hex(fingerprint_of(sequence)));
-  j.key("config").value(options.config_path.string());
-  j.key("frames_selected").value(frames_total);
-  j.key("frames_processed").value(frames.size());
+/// The frames' counts and stage times, summed.
+struct RunTotals {
   size_t points = 0, below_ground = 0, occluded = 0, unsupported = 0;
   StageTimes sum;
   double read = 0, write = 0;
+};
+
+RunTotals totals_of(const std::vector<FrameRecord>& frames) {
+  RunTotals t;
   for (const auto& f : frames) {
-    points += f.points;
-    below_ground += f.points_below_ground;
-    occluded += f.points_occluded;
-    unsupported += f.disparities_unsupported;
-    sum.rectify_ms += f.ms.rectify_ms;
-    sum.disparity_ms += f.ms.disparity_ms;
-    sum.points_ms += f.ms.points_ms;
-    sum.map_ms += f.ms.map_ms;
-    sum.hazard_ms += f.ms.hazard_ms;
-    read += f.read_ms;
-    write += f.write_ms;
+    t.points += f.points;
+    t.below_ground += f.points_below_ground;
+    t.occluded += f.points_occluded;
+    t.unsupported += f.disparities_unsupported;
+    t.sum.rectify_ms += f.ms.rectify_ms;
+    t.sum.disparity_ms += f.ms.disparity_ms;
+    t.sum.points_ms += f.ms.points_ms;
+    t.sum.map_ms += f.ms.map_ms;
+    t.sum.hazard_ms += f.ms.hazard_ms;
+    t.read += f.read_ms;
+    t.write += f.write_ms;
   }
-  j.key("points_total").value(points);
-  j.key("points_below_ground_total").value(below_ground);
-  j.key("points_occluded_total").value(occluded);
-  j.key("disparities_unsupported_total").value(unsupported);
-  const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
+  return t;
+}
+
+/// "mean_ms_per_frame": each stage's mean over `n` frames.
+void write_mean_times(JsonWriter& j, const RunTotals& t, double n) {
   j.key("mean_ms_per_frame").begin_object();
-  j.key("read").value(read / n);
-  j.key("rectify").value(sum.rectify_ms / n);
-  j.key("disparity").value(sum.disparity_ms / n);
-  j.key("points").value(sum.points_ms / n);
-  j.key("map").value(sum.map_ms / n);
-  j.key("hazard").value(sum.hazard_ms / n);
-  j.key("write").value(write / n);
-  j.key("total").value((read + sum.total() + write) / n);
+  j.key("read").value(t.read / n);
+  j.key("rectify").value(t.sum.rectify_ms / n);
+  j.key("disparity").value(t.sum.disparity_ms / n);
+  j.key("points").value(t.sum.points_ms / n);
+  j.key("map").value(t.sum.map_ms / n);
+  j.key("hazard").value(t.sum.hazard_ms / n);
+  j.key("write").value(t.write / n);
+  j.key("total").value((t.read + t.sum.total() + t.write) / n);
   j.end_object();
-  j.key("output").begin_object();  // `write` above is the loop's share; this the writer's
+}
+
+/// "output": the format and the writer thread's own times (the loop's share is "write" in
+/// mean_ms_per_frame).
+void write_output_stats(JsonWriter& j, const Config& config, const FrameWriter::Stats& writer) {
+  j.key("output").begin_object();
   j.key("format").value(std::string(enum_name(config.output.format)));
   j.key("queue_frames").value(config.output.queue_frames);
-  j.key("frames_written").value(state.writer.frames_written);
+  j.key("frames_written").value(writer.frames_written);
   j.key("writer_ms_per_written_frame")
-      .value(state.writer.frames_written ? state.writer.write_ms / state.writer.frames_written
-                                         : 0.0);
+      .value(writer.frames_written ? writer.write_ms / writer.frames_written : 0.0);
   j.key("writer_cpu_ms_per_written_frame")
-      .value(state.writer.frames_written ? state.writer.write_cpu_ms / state.writer.frames_written
-                                         : 0.0);
-  j.key("loop_wait_ms_total").value(state.writer.wait_ms);
+      .value(writer.frames_written ? writer.write_cpu_ms / writer.frames_written : 0.0);
+  j.key("loop_wait_ms_total").value(writer.wait_ms);
   j.end_object();
-  j.key("map_ns_per_point").value(points ? sum.map_ms * 1e6 / static_cast<double>(points) : 0.0);
+}
+
+/// "layers": each layer's settings, insertion time and SPEC 4 gate drops over the run.
+void write_layer_totals(JsonWriter& j, const Config& config,
+                        const std::vector<FrameRecord>& frames, size_t points, double n) {
   j.key("layers").begin_array();
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     const LayerConfig& l = config.map.layers[i];
@@ -136,57 +129,93 @@ void write_summary(const std::filesystem::path& path, const Config& config,
     j.end_object();
   }
   j.end_array();
-  j.key("frames").begin_array();
-  for (const auto& f : frames) {
+}
+
+/// One element of "frames".
+void write_frame_record(JsonWriter& j, const FrameRecord& f) {
+  j.begin_object();
+  j.key("name").value(f.name);
+  j.key("points").value(f.points);
+  j.key("points_below_ground").value(f.points_below_ground);
+  j.key("points_occluded").value(f.points_occluded);
+  j.key("disparities_unsupported").value(f.disparities_unsupported);
+  // The pose as given (poses.txt's order: x y z qx qy qz qw), so that the run alone
+  // shows where the rover was (hazmap view draws its path), every frame processed.
+  const Eigen::Quaterniond q(f.T_W_B.linear());
+  const Eigen::Vector3d& t = f.T_W_B.translation();
+  j.key("T_W_B").begin_array();
+  for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) j.value(v);
+  j.end_array();
+  j.key("gated").begin_array();  // per layer, SPEC 4
+  for (size_t i = 0; i < f.layer_gates.size(); ++i) {
     j.begin_object();
-    j.key("name").value(f.name);
-    j.key("points").value(f.points);
-    j.key("points_below_ground").value(f.points_below_ground);
-    j.key("points_occluded").value(f.points_occluded);
-    j.key("disparities_unsupported").value(f.disparities_unsupported);
-    // The pose as given (poses.txt's order: x y z qx qy qz qw), so that the run alone
-    // shows where the rover was (hazmap view draws its path), every frame processed.
-    const Eigen::Quaterniond q(f.T_W_B.linear());
-    const Eigen::Vector3d& t = f.T_W_B.translation();
-    j.key("T_W_B").begin_array();
-    for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) j.value(v);
-    j.end_array();
-    j.key("gated").begin_array();  // per layer, SPEC 4
-    for (size_t i = 0; i < f.layer_gates.size(); ++i) {
+    j.key("layer").value(run_layout::layer_id(i));
+    j.key("std").value(f.layer_gates[i].std_gate);
+    j.key("consistency").value(f.layer_gates[i].consistency_gate);
+    j.end_object();
+  }
+  j.end_array();
+  j.key("written").value(f.written);
+  j.key("ms").begin_object();
+  j.key("read").value(f.read_ms);
+  j.key("rectify").value(f.ms.rectify_ms);
+  j.key("disparity").value(f.ms.disparity_ms);
+  j.key("points").value(f.ms.points_ms);
+  j.key("map").value(f.ms.map_ms);
+  j.key("hazard").value(f.ms.hazard_ms);
+  j.key("write").value(f.write_ms);
+  j.end_object();
+  if (f.written) {
+    j.key("areas_m2").begin_array();
+    for (size_t i = 0; i < f.areas.size(); ++i) {
       j.begin_object();
-      j.key("layer").value(run_layout::layer_id(i));
-      j.key("std").value(f.layer_gates[i].std_gate);
-      j.key("consistency").value(f.layer_gates[i].consistency_gate);
+      const size_t layers = f.areas.size() - 2;  // then the fused and footprint maps
+      j.key("layer").value(i < layers        ? run_layout::layer_id(i)
+                           : i == layers ? std::string("fused")
+                                         : std::string("footprint"));
+      j.key("hazard").value(f.areas[i].hazard_m2);
+      j.key("traversable").value(f.areas[i].traversable_m2);
+      j.key("unknown").value(f.areas[i].unknown_m2);
       j.end_object();
     }
     j.end_array();
-    j.key("written").value(f.written);
-    j.key("ms").begin_object();
-    j.key("read").value(f.read_ms);
-    j.key("rectify").value(f.ms.rectify_ms);
-    j.key("disparity").value(f.ms.disparity_ms);
-    j.key("points").value(f.ms.points_ms);
-    j.key("map").value(f.ms.map_ms);
-    j.key("hazard").value(f.ms.hazard_ms);
-    j.key("write").value(f.write_ms);
-    j.end_object();
-    if (f.written) {
-      j.key("areas_m2").begin_array();
-      for (size_t i = 0; i < f.areas.size(); ++i) {
-        j.begin_object();
-        const size_t layers = f.areas.size() - 2;  // then the fused and footprint maps
-        j.key("layer").value(i < layers        ? run_layout::layer_id(i)
-                             : i == layers ? std::string("fused")
-                                           : std::string("footprint"));
-        j.key("hazard").value(f.areas[i].hazard_m2);
-        j.key("traversable").value(f.areas[i].traversable_m2);
-        j.key("unknown").value(f.areas[i].unknown_m2);
-        j.end_object();
-      }
-      j.end_array();
-    }
-    j.end_object();
   }
+  j.end_object();
+}
+
+void write_summary(const std::filesystem::path& path, const Config& config,
+                   const Sequence& sequence, const RunOptions& options,
+                   const std::vector<FrameRecord>& frames,
+                   int frames_total, const RunState& state) {
+  JsonWriter j;
+  j.begin_object();
+  j.key("hazmap_version").value(HAZMAP_VERSION);
+  j.key("finished").value(state.finished);
+  if (state.stop_signal != 0) {
+    j.key("stopped_by_signal").value(state.stop_signal);
+    j.key("stopped_after_frame").value(frames.empty() ? std::string() : frames.back().name);
+  }
+  // Which sequence made these frames, for `hazmap evaluate` to check (issue 22): its
+  // folder, absolute, and the fingerprint of all its poses, not only the frames
+  // selected, so that a run of --frames A:B still matches its sequence.
+  j.key("sequence").value(absolute_folder(options.sequence_dir).string());
+  j.key("poses_fingerprint").value(fingerprint_hex(fingerprint_of(sequence)));
+  j.key("config").value(options.config_path.string());
+  j.key("frames_selected").value(frames_total);
+  j.key("frames_processed").value(frames.size());
+  const RunTotals t = totals_of(frames);
+  j.key("points_total").value(t.points);
+  j.key("points_below_ground_total").value(t.below_ground);
+  j.key("points_occluded_total").value(t.occluded);
+  j.key("disparities_unsupported_total").value(t.unsupported);
+  const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
+  write_mean_times(j, t, n);
+  write_output_stats(j, config, state.writer);
+  j.key("map_ns_per_point")
+      .value(t.points ? t.sum.map_ms * 1e6 / static_cast<double>(t.points) : 0.0);
+  write_layer_totals(j, config, frames, t.points, n);
+  j.key("frames").begin_array();
+  for (const auto& f : frames) write_frame_record(j, f);
   j.end_array();
   j.key("settings_yaml").value(to_yaml(config));
   j.end_object();
@@ -214,6 +243,126 @@ void warn_if_ground_tilted(const PointCloud& cloud, const SequenceFrame& frame,
                  scalar_first_hint(calibration, T_W_B, ground.normal, config.hazard.max_slope_deg));
 }
 
+/// The run's first lines: frames, image size, rectified geometry, ground band, and the
+/// rig's doubtful geometry found by the constructor.
+void log_run_start(const RunOptions& options, size_t frames, const Sequence& sequence,
+                   const Pipeline& pipeline, const std::vector<std::string>& rig_warnings) {
+  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
+               frames, sequence.frames.size(), sequence.calibration.image_width,
+               sequence.calibration.image_height);
+  const StereoGeometry& g = pipeline.rectifier().geometry();
+  spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
+               g.baseline_m, g.cx_px, g.cy_px);
+  if (const BandMatcher* band = pipeline.matcher().band())
+    spdlog::info("ground band: {}", describe_strips(band->strips()));
+  for (const std::string& w : rig_warnings) spdlog::warn("{}", w);
+}
+
+/// Reads the frame's images; the record starts with its name, pose and reading time.
+FrameRecord read_frame(const SequenceFrame& frame, cv::Mat& left, cv::Mat& right) {
+  FrameRecord rec;
+  rec.name = frame.name;
+  rec.T_W_B = frame.pose.T_W_B;
+  const auto t = Clock::now();
+  left = read_image(frame.left_path);
+  right = read_image(frame.right_path);
+  rec.read_ms = ms_since(t);
+  return rec;
+}
+
+/// Pipeline::process on the frame's pair; an error names the frame's left image.
+FrameReport process_frame(Pipeline& pipeline, const SequenceFrame& frame, const cv::Mat& left,
+                          const cv::Mat& right) {
+  try {
+    return pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
+  } catch (const Error& e) {
+    throw Error(frame.left_path.string() + ": " + e.what());
+  }
+}
+
+/// Hands the pipeline's current outputs to the writer and books them in `rec` and
+/// `result`.
+void hand_to_writer(const Pipeline& pipeline, const SequenceFrame& frame,
+                    const std::filesystem::path& out_dir, FrameWriter& writer, FrameRecord& rec,
+                    RunResult& result) {
+  const auto t = Clock::now();
+  capture_frame_outputs(pipeline, frame.name, frame.pose.T_W_B, writer.acquire());
+  writer.submit();
+  for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
+  rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
+  rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
+  rec.write_ms = ms_since(t);
+  rec.written = true;
+  result.written.push_back(run_layout::frame_dir(out_dir, frame.name));
+  ++result.frames_written;
+}
+
+/// A frame without a point: why (disparities out of range, unsupported, below the
+/// ground, occluded), added to `drops`.
+void count_empty_frame(const Pipeline& pipeline, const FrameReport& report, const Config& config,
+                       EmptyRunCounts& drops) {
+  const StereoGeometry& g = pipeline.rectifier().geometry();
+  const double fb = g.focal_px * g.baseline_m;
+  count_disparity_drops(pipeline.disparity_x16(), pipeline.builder().region(),
+                        pipeline.matcher().invalid_below(), fb / config.stereo.z_max_m,
+                        fb / config.stereo.z_min_m, drops);
+  drops.unsupported += report.disparities_unsupported;
+  drops.below_ground += report.points_below_ground;
+  drops.occluded += report.points_occluded;
+}
+
+/// The frame's report and the pipeline's per-layer figures, booked in `rec`.
+void record_report(const FrameReport& report, const Pipeline& pipeline, FrameRecord& rec) {
+  rec.points = report.points;
+  rec.ms = report.ms;
+  rec.layer_map_ms = pipeline.layer_map_ms();
+  rec.points_below_ground = report.points_below_ground;
+  rec.points_occluded = report.points_occluded;
+  rec.disparities_unsupported = report.disparities_unsupported;
+  rec.layer_gates = pipeline.layer_gates();
+}
+
+void log_frame(int i, int n, const FrameReport& report, const FrameRecord& rec,
+               const Progress& progress) {
+  spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
+               "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f}); {}",
+               i + 1, n, rec.name, report.points, rec.read_ms + report.ms.total() + rec.write_ms,
+               rec.read_ms, report.ms.rectify_ms, report.ms.disparity_ms, report.ms.points_ms,
+               report.ms.map_ms, report.ms.hazard_ms, rec.write_ms, progress.rate(i + 1));
+}
+
+/// A frame that failed stops the run: the frames handed to the writer before it are
+/// written whole first, and the error says so (or that writing them failed too).
+Error frame_failure(const Error& e, FrameWriter& writer, const std::string& frame, int i, int n,
+                    int frames_written) {
+  std::string written =
+      std::to_string(frames_written) + " frame folders written before it are complete";
+  try {
+    writer.finish();
+  } catch (const Error& w) {
+    written = std::string("writing the earlier frames failed too: ") + w.what();
+  }
+  return Error(std::string(e.what()) + " (frame " + frame + ", " + std::to_string(i + 1) +
+               " of " + std::to_string(n) + ", stopped the run; " + written + ")");
+}
+
+/// A layer no point reached is all unknown, which looks like a map: say so (measured:
+/// default.yaml on EuRoC's room left its 1.28 m layer empty in every frame, silently).
+void warn_empty_layers(const Pipeline& pipeline, const Config& config, int frames_processed) {
+  const auto& views = pipeline.layers();
+  for (size_t i = 0; i < views.size(); ++i) {
+    const DenseGrid& h = views[i].map.height;
+    if (std::any_of(h.values.begin(), h.values.end(), [](float v) { return !std::isnan(v); }))
+      continue;
+    const LayerConfig& l = config.map.layers[i];
+    spdlog::warn("layer {} ({} m cells, a {} m window around the body) received no point in "
+                 "{} frames: every cell is unknown; see docs/conventions.md for where the "
+                 "window lies and check map.layers.{}.size against where the cameras see "
+                 "the ground",
+                 i, l.resolution_m, l.resolution_m * l.size, frames_processed, i);
+  }
+}
+
 }  // namespace
 
 SequenceRun::SequenceRun(const Config& config, const Sequence& sequence, const RunOptions& options)
@@ -239,33 +388,15 @@ RunResult SequenceRun::run() {
   const RunOptions& options = options_;
   const std::vector<SequenceFrame>& frames = frames_;
   Pipeline& pipeline = *pipeline_;
-  spdlog::info("sequence {}: {} frames selected of {}, images {}x{}", options.sequence_dir.string(),
-               frames.size(), sequence_.frames.size(), sequence_.calibration.image_width,
-               sequence_.calibration.image_height);
-  const StereoGeometry& g = pipeline.rectifier().geometry();
-  spdlog::info("rectified: f = {:.2f} px, B = {:.4f} m, c = ({:.1f}, {:.1f}) px", g.focal_px,
-               g.baseline_m, g.cx_px, g.cy_px);
-  if (const BandMatcher* band = pipeline.matcher().band())
-    spdlog::info("ground band: {}", describe_strips(band->strips()));
-  for (const std::string& w : rig_warnings_) spdlog::warn("{}", w);
+  log_run_start(options, frames.size(), sequence_, pipeline, rig_warnings_);
 
   RunResult result;
   RunState state;
   std::vector<FrameRecord> records;
   records.reserve(frames.size());
   FrameWriter writer(options.out_dir, config.output);
-  // Hands the pipeline's current outputs to the writer and books them in `rec`.
   auto write_frame = [&](const SequenceFrame& frame, FrameRecord& rec) {
-    const auto t = Clock::now();
-    capture_frame_outputs(pipeline, frame.name, frame.pose.T_W_B, writer.acquire());
-    writer.submit();
-    for (const auto& view : pipeline.layers()) rec.areas.push_back(hazard_areas(view.hazard));
-    rec.areas.push_back(hazard_areas(pipeline.planner_maps().fused));
-    rec.areas.push_back(hazard_areas(pipeline.planner_maps().footprint));
-    rec.write_ms = ms_since(t);
-    rec.written = true;
-    result.written.push_back(run_layout::frame_dir(options.out_dir, frame.name));
-    ++result.frames_written;
+    hand_to_writer(pipeline, frame, options.out_dir, writer, rec, result);
   };
 
   const int n = static_cast<int>(frames.size());
@@ -273,68 +404,29 @@ RunResult SequenceRun::run() {
   int last = -1;  // index of the last frame processed
   bool ground_checked = false;  // the first frame with points is checked for tilt
   EmptyRunCounts drops;  // frames without a point: why (said if no frame has one)
-  const double fb = g.focal_px * g.baseline_m;
   for (int i = 0; i < n; ++i) {
     // A stop request ends the run between frames: the frame in flight was finished.
     if (stop_requested(options)) break;
     const SequenceFrame& frame = frames[static_cast<size_t>(i)];
     try {
-      FrameRecord rec;
-      rec.name = frame.name;
-      rec.T_W_B = frame.pose.T_W_B;
-      const auto t = Clock::now();
-      const cv::Mat left = read_image(frame.left_path);
-      const cv::Mat right = read_image(frame.right_path);
-      rec.read_ms = ms_since(t);
-
-      FrameReport report;
-      try {
-        report = pipeline.process(left, right, frame.pose.T_W_B, frame.pose.noise);
-      } catch (const Error& e) {
-        throw Error(frame.left_path.string() + ": " + e.what());
-      }
+      cv::Mat left, right;
+      FrameRecord rec = read_frame(frame, left, right);
+      const FrameReport report = process_frame(pipeline, frame, left, right);
       last = i;
       if (!ground_checked && report.points > 0) {
         warn_if_ground_tilted(pipeline.cloud(), frame, sequence_.calibration, config);
         ground_checked = true;
       }
-      if (report.points == 0) {
-        count_disparity_drops(pipeline.disparity_x16(), pipeline.builder().region(),
-                              pipeline.matcher().invalid_below(), fb / config.stereo.z_max_m,
-                              fb / config.stereo.z_min_m, drops);
-        drops.unsupported += report.disparities_unsupported;
-        drops.below_ground += report.points_below_ground;
-        drops.occluded += report.points_occluded;
-      }
-      rec.points = report.points;
-      rec.ms = report.ms;
-      rec.layer_map_ms = pipeline.layer_map_ms();
-      rec.points_below_ground = report.points_below_ground;
-      rec.points_occluded = report.points_occluded;
-      rec.disparities_unsupported = report.disparities_unsupported;
-      rec.layer_gates = pipeline.layer_gates();
+      if (report.points == 0) count_empty_frame(pipeline, report, config, drops);
+      record_report(report, pipeline, rec);
 
       if (i % config.output.every_n == 0 || i == n - 1) write_frame(frame, rec);
       result.points_total += report.points;
       ++result.frames_processed;
-      spdlog::info("frame {}/{} {}: {} points, {:.1f} ms (read {:.1f}, rectify {:.1f}, disparity "
-                   "{:.1f}, points {:.1f}, map {:.1f}, hazard {:.1f}, write {:.1f}); {}",
-                   i + 1, n, frame.name, report.points,
-                   rec.read_ms + report.ms.total() + rec.write_ms, rec.read_ms,
-                   report.ms.rectify_ms, report.ms.disparity_ms, report.ms.points_ms,
-                   report.ms.map_ms, report.ms.hazard_ms, rec.write_ms, progress.rate(i + 1));
+      log_frame(i, n, report, rec, progress);
       records.push_back(std::move(rec));
     } catch (const Error& e) {
-      // The frames handed to the writer before this one are written whole first.
-      std::string written = std::to_string(result.frames_written) +
-                            " frame folders written before it are complete";
-      try {
-        writer.finish();
-      } catch (const Error& w) {
-        written = std::string("writing the earlier frames failed too: ") + w.what();
-      }
-      throw Error(std::string(e.what()) + " (frame " + frame.name + ", " + std::to_string(i + 1) +
-                  " of " + std::to_string(n) + ", stopped the run; " + written + ")");
+      throw frame_failure(e, writer, frame.name, i, n, result.frames_written);
     }
   }
   if (last < n - 1 && stop_requested(options)) {  // stopped early
@@ -346,22 +438,8 @@ RunResult SequenceRun::run() {
     }
   }
   writer.finish();
-  // A layer no point reached is all unknown, which looks like a map: say so (measured:
-  // default.yaml on EuRoC's room left its 1.28 m layer empty in every frame, silently).
-  if (result.frames_processed > 0 && result.points_total > 0) {  // else one line says why
-    const auto& views = pipeline.layers();
-    for (size_t i = 0; i < views.size(); ++i) {
-      const DenseGrid& h = views[i].map.height;
-      if (std::any_of(h.values.begin(), h.values.end(), [](float v) { return !std::isnan(v); }))
-        continue;
-      const LayerConfig& l = config.map.layers[i];
-      spdlog::warn("layer {} ({} m cells, a {} m window around the body) received no point in "
-                   "{} frames: every cell is unknown; see docs/conventions.md for where the "
-                   "window lies and check map.layers.{}.size against where the cameras see "
-                   "the ground",
-                   i, l.resolution_m, l.resolution_m * l.size, result.frames_processed, i);
-    }
-  }
+  if (result.frames_processed > 0 && result.points_total > 0)  // else one line says why
+    warn_empty_layers(pipeline, config, result.frames_processed);
   if (result.frames_processed > 0 && result.points_total == 0)
     result.no_points = no_points_message(drops);
   // Once, complete, after the last frame (or a requested stop, marked unfinished): a run

@@ -23,6 +23,14 @@ using c2f::kNoSeed;
 
 int round_up(int v, int q) { return (v + q - 1) / q * q; }
 
+/// Index of pixel (x, y) in a level's row-major per-pixel arrays.
+struct PixelIndex {
+  int w;
+  size_t operator()(int x, int y) const {
+    return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+  }
+};
+
 /// cv::parallel_for_ without its std::function wrapper, which allocates for a lambda
 /// capturing more than a pointer or two (compute() allocates nothing).
 template <class F>
@@ -314,17 +322,39 @@ void C2fMatcher::seed_level(int l) {
 
 void C2fMatcher::match_level(int l) {
   Level& L = levels_[static_cast<size_t>(l)];
-  const int w = L.size.width, h = L.size.height;
-  const int n = L.n, npad = L.npad, stride = L.stride;
-  const int bits = config_.census_width * config_.census_height - 1;
   census(L.left, L.left_pad, config_.census_width, config_.census_height, avx2_, L.census_l);
   census(L.right, L.right_pad, config_.census_width, config_.census_height, avx2_, L.census_r);
   seed_level(l);
+  if (!L.narrow) compute_costs(L);  // a narrow level: in its first row pass
+  aggregate_rows(L);
+  aggregate_columns(L);
+  select_winners(L);
+  size_t valid = 0;
+  for (const float d : L.disp) valid += d >= 0;
+  valid_by_level_[static_cast<size_t>(l)] = valid;
+}
 
-  auto at = [&](int x, int y) { return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x); };
+// The stages below run in match_level's order; each pass reads what the one before wrote.
+// Their loops and arithmetic are those of the single function they were split from.
 
-  // Costs, and the sums zeroed (a narrow level: in its first row pass).
-  if (!L.narrow) parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+c2f::StepParams C2fMatcher::step_params(const Level& L) const {
+  c2f::StepParams sp;
+  sp.n = L.n;
+  sp.npad = L.npad;
+  sp.p1 = config_.p1;
+  sp.p2 = config_.p2;
+  sp.pad_mask = L.pad_mask.data();
+  return sp;
+}
+
+/// Costs (Hamming distances of the census codes over each pixel's window), and the sums
+/// zeroed.
+void C2fMatcher::compute_costs(Level& L) const {
+  const int w = L.size.width, h = L.size.height;
+  const int n = L.n, npad = L.npad;
+  const int bits = config_.census_width * config_.census_height - 1;
+  const PixelIndex at{w};
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const std::uint64_t* cl = L.census_l.data() + at(0, y);
       const std::uint64_t* cr = L.census_r.data() + at(0, y);
@@ -338,16 +368,16 @@ void C2fMatcher::match_level(int l) {
       }
     }
   });
+}
 
-  c2f::StepParams sp;
-  sp.n = n;
-  sp.npad = npad;
-  sp.p1 = config_.p1;
-  sp.p2 = config_.p2;
-  sp.pad_mask = L.pad_mask.data();
+/// Along rows, both ways: rows in strips (a narrow level: its costs and sums too).
+void C2fMatcher::aggregate_rows(Level& L) {
+  const int w = L.size.width, h = L.size.height;
+  const int n = L.n, npad = L.npad, stride = L.stride;
+  const int bits = config_.census_width * config_.census_height - 1;
+  const PixelIndex at{w};
+  const c2f::StepParams sp = step_params(L);
   const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
-
-  // Along rows, both ways: rows in strips.
   parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       std::vector<std::int16_t>& buffer = scratch_[static_cast<size_t>(s)];
@@ -394,74 +424,94 @@ void C2fMatcher::match_level(int l) {
       }
     }
   });
+}
 
-  // Down and up the columns (and diagonals with 8 paths): rows in order, each row's
-  // pixels from the row before; column strips in parallel, diagonals serial.
-  auto vertical_narrow = [&](int dx, int dy, cv::Range cols) {
-    c2f::NarrowColumnRow r;
-    r.width = w;
-    r.n = n;
-    r.p1 = config_.p1;
-    r.p2 = config_.p2;
-    r.x0 = cols.start;
-    r.x1 = cols.end;
-    r.dx = dx;
-    const auto kernel = avx2_ ? c2f::column_row_narrow_avx2 : c2f::column_row_narrow_scalar;
-    const int y0 = dy > 0 ? 0 : h - 1;
-    for (int i = 0, y = y0; i < h; ++i, y += dy) {
-      r.dmin = L.dmin.data() + at(0, y);
-      r.prev_dmin = i > 0 ? L.dmin.data() + at(0, y - dy) : nullptr;
-      r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * w * stride;
-      r.prev_min = L.state_min.data() + static_cast<size_t>((i + 1) & 1) * w;
-      r.cur = L.state.data() + static_cast<size_t>(i & 1) * w * stride;
-      r.cur_min = L.state_min.data() + static_cast<size_t>(i & 1) * w;
-      r.cost = L.cost.data() + at(0, y) * static_cast<size_t>(npad);
-      r.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
-      kernel(r);
-    }
-  };
-  auto vertical = [&](int dx, int dy, cv::Range cols) {
-    if (L.narrow) {
-      vertical_narrow(dx, dy, cols);
-      return;
-    }
-    std::int16_t* rowbuf[2] = {L.state.data() + kPad,
-                               L.state.data() + kPad + static_cast<size_t>(w) * stride};
-    int* rowmin[2] = {L.state_min.data(), L.state_min.data() + w};
-    const int y0 = dy > 0 ? 0 : h - 1;
-    // Which pixels of the previous row have a path cost: dmin != kNoSeed there and the
-    // row exists.
-    for (int i = 0, y = y0; i < h; ++i, y += dy) {
-      std::int16_t* prev = rowbuf[(i + 1) & 1];
-      std::int16_t* cur = rowbuf[i & 1];
-      int* pmin = rowmin[(i + 1) & 1];
-      int* cmin = rowmin[i & 1];
-      const int yq = y - dy;
-      for (int x = cols.start; x < cols.end; ++x) {
-        const size_t p = at(x, y);
-        const int d0 = L.dmin[p];
-        if (d0 == kNoSeed) continue;
-        const int xq = x - dx;
-        const bool has_prev = i > 0 && xq >= 0 && xq < w && L.dmin[at(xq, yq)] != kNoSeed;
-        const int qd0 = has_prev ? L.dmin[at(xq, yq)] : 0;
-        cmin[x] = step(has_prev ? prev + static_cast<size_t>(xq) * stride : nullptr,
-                       has_prev ? pmin[xq] : 0, d0 - qd0,
-                       L.cost.data() + p * static_cast<size_t>(npad), sp,
-                       cur + static_cast<size_t>(x) * stride,
-                       L.sum.data() + p * static_cast<size_t>(npad));
-      }
-    }
-  };
+/// Down and up the columns (and diagonals with 8 paths): rows in order, each row's
+/// pixels from the row before; column strips in parallel, diagonals serial.
+void C2fMatcher::aggregate_columns(Level& L) const {
+  const int w = L.size.width;
   for (int dy : {1, -1}) {
     parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
-      for (int s = range.start; s < range.end; ++s) vertical(0, dy, piece(w, strips_, s));
+      for (int s = range.start; s < range.end; ++s) column_pass(L, 0, dy, piece(w, strips_, s));
     });
   }
   if (config_.paths == 8)
     for (int dy : {1, -1})
-      for (int dx : {1, -1}) vertical(dx, dy, cv::Range(0, w));
+      for (int dx : {1, -1}) column_pass(L, dx, dy, cv::Range(0, w));
+}
 
-  // Winner takes all, uniqueness (full level), left-right check, sub-pixel.
+/// One vertical (dx = 0) or diagonal pass over columns [cols.start, cols.end).
+void C2fMatcher::column_pass(Level& L, int dx, int dy, cv::Range cols) const {
+  if (L.narrow) {
+    column_pass_narrow(L, dx, dy, cols);
+    return;
+  }
+  const int w = L.size.width, h = L.size.height;
+  const int npad = L.npad, stride = L.stride;
+  const PixelIndex at{w};
+  const c2f::StepParams sp = step_params(L);
+  const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
+  std::int16_t* rowbuf[2] = {L.state.data() + kPad,
+                             L.state.data() + kPad + static_cast<size_t>(w) * stride};
+  int* rowmin[2] = {L.state_min.data(), L.state_min.data() + w};
+  const int y0 = dy > 0 ? 0 : h - 1;
+  // Which pixels of the previous row have a path cost: dmin != kNoSeed there and the
+  // row exists.
+  for (int i = 0, y = y0; i < h; ++i, y += dy) {
+    std::int16_t* prev = rowbuf[(i + 1) & 1];
+    std::int16_t* cur = rowbuf[i & 1];
+    int* pmin = rowmin[(i + 1) & 1];
+    int* cmin = rowmin[i & 1];
+    const int yq = y - dy;
+    for (int x = cols.start; x < cols.end; ++x) {
+      const size_t p = at(x, y);
+      const int d0 = L.dmin[p];
+      if (d0 == kNoSeed) continue;
+      const int xq = x - dx;
+      const bool has_prev = i > 0 && xq >= 0 && xq < w && L.dmin[at(xq, yq)] != kNoSeed;
+      const int qd0 = has_prev ? L.dmin[at(xq, yq)] : 0;
+      cmin[x] = step(has_prev ? prev + static_cast<size_t>(xq) * stride : nullptr,
+                     has_prev ? pmin[xq] : 0, d0 - qd0,
+                     L.cost.data() + p * static_cast<size_t>(npad), sp,
+                     cur + static_cast<size_t>(x) * stride,
+                     L.sum.data() + p * static_cast<size_t>(npad));
+    }
+  }
+}
+
+/// column_pass on a narrow level: whole rows of 8-lane windows per kernel call.
+void C2fMatcher::column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) const {
+  const int w = L.size.width, h = L.size.height;
+  const int npad = L.npad, stride = L.stride;
+  const PixelIndex at{w};
+  c2f::NarrowColumnRow r;
+  r.width = w;
+  r.n = L.n;
+  r.p1 = config_.p1;
+  r.p2 = config_.p2;
+  r.x0 = cols.start;
+  r.x1 = cols.end;
+  r.dx = dx;
+  const auto kernel = avx2_ ? c2f::column_row_narrow_avx2 : c2f::column_row_narrow_scalar;
+  const int y0 = dy > 0 ? 0 : h - 1;
+  for (int i = 0, y = y0; i < h; ++i, y += dy) {
+    r.dmin = L.dmin.data() + at(0, y);
+    r.prev_dmin = i > 0 ? L.dmin.data() + at(0, y - dy) : nullptr;
+    r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * w * stride;
+    r.prev_min = L.state_min.data() + static_cast<size_t>((i + 1) & 1) * w;
+    r.cur = L.state.data() + static_cast<size_t>(i & 1) * w * stride;
+    r.cur_min = L.state_min.data() + static_cast<size_t>(i & 1) * w;
+    r.cost = L.cost.data() + at(0, y) * static_cast<size_t>(npad);
+    r.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
+    kernel(r);
+  }
+}
+
+/// Winner takes all, uniqueness (full level), left-right check, sub-pixel.
+void C2fMatcher::select_winners(Level& L) const {
+  const int w = L.size.width, h = L.size.height;
+  const int n = L.n, npad = L.npad;
+  const PixelIndex at{w};
   const int lr = config_.lr_max_diff;
   const int uniq = config_.uniqueness;
   parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
@@ -499,9 +549,6 @@ void C2fMatcher::match_level(int l) {
   if (L.full)
     for (size_t i = 0; i < L.disp.size(); ++i)
       if (L.disp[i] < 0) L.conf[i] = 0;
-  size_t valid = 0;
-  for (const float d : L.disp) valid += d >= 0;
-  valid_by_level_[static_cast<size_t>(l)] = valid;
 }
 
 void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {

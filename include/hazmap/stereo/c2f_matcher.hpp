@@ -25,6 +25,10 @@
 
 namespace hazmap {
 
+namespace c2f {
+struct StepParams;  // stereo/c2f_kernels.hpp (internal)
+}
+
 /// Which kernels compute() uses: the fastest the CPU runs, or the scalar reference.
 enum class C2fKernels { best, scalar };
 
@@ -54,6 +58,14 @@ class C2fMatcher {
  private:
   void match_level(int l);
   void seed_level(int l);
+  // match_level's stages, in its order (c2f_matcher.cpp).
+  c2f::StepParams step_params(const Level& L) const;
+  void compute_costs(Level& L) const;
+  void aggregate_rows(Level& L);
+  void aggregate_columns(Level& L) const;
+  void column_pass(Level& L, int dx, int dy, cv::Range cols) const;
+  void column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) const;
+  void select_winners(Level& L) const;
 
   C2fConfig config_;
   int min_disparity_ = 0;
