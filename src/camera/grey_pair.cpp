@@ -32,9 +32,9 @@ int significant_bits(const cv::Mat& left_u16, const cv::Mat& right_u16) {
   return bits;
 }
 
-GreyPairConverter::GreyPairConverter(int input_bits) : input_bits_(input_bits) {
-  if (input_bits != 0 && (input_bits < 8 || input_bits > 16))
-    throw Error("config: key 'stereo.input_bits': must be 0 (detect) or in [8, 16]");
+GreyPairConverter::GreyPairConverter(std::optional<int> input_bits) : input_bits_(input_bits) {
+  if (input_bits && (*input_bits < 8 || *input_bits > 16))
+    throw Error("config: key 'stereo.input_bits': must be `auto` (detect) or in [8, 16]");
 }
 
 int GreyPairConverter::convert(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_left,
@@ -62,7 +62,7 @@ int GreyPairConverter::convert(const cv::Mat& left, const cv::Mat& right, cv::Ma
   }
   const cv::Mat& l16 = grey ? left : grey_left_;
   const cv::Mat& r16 = grey ? right : grey_right_;
-  const int bits = input_bits_ > 0 ? input_bits_ : significant_bits(l16, r16);
+  const int bits = input_bits_ ? *input_bits_ : significant_bits(l16, r16);
   const double scale = 1.0 / static_cast<double>(1 << (bits - 8));
   l16.convertTo(out_left, CV_8U, scale);
   r16.convertTo(out_right, CV_8U, scale);

@@ -24,22 +24,21 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfi
   p.min_kernel_fill = hz.min_kernel_fill;
   p.detrended_roughness = hz.roughness == RoughnessStatistic::detrended && p.ring_tests;
   // SPEC 8.1: cell heights sit at cell centres, (D - 1) r apart across the kernel.
-  p.roughness_threshold_m = layer.hazard.roughness_threshold_m >= 0
-                                ? layer.hazard.roughness_threshold_m
-                                : (p.kernel - 1) * layer.resolution_m * std::tan(p.max_slope_rad);
-  if (layer.hazard.h_min_m > 0) {
-    p.h_min_m = layer.hazard.h_min_m;
+  p.roughness_threshold_m = layer.hazard.roughness_threshold_m.value_or(
+      (p.kernel - 1) * layer.resolution_m * std::tan(p.max_slope_rad));
+  if (layer.hazard.h_min_m) {
+    p.h_min_m = *layer.hazard.h_min_m;
     p.h_min_source = "hazard.h_min";
   } else if (p.family == HazardFamily::plane) {
     p.h_min_m = 0.75 * layer.resolution_m;
     p.h_min_source = "0.75 r";
   } else {
     p.h_min_m = p.roughness_threshold_m;
-    p.h_min_source = layer.hazard.roughness_threshold_m >= 0 ? "roughness threshold"
-                                                              : "derived roughness threshold";
+    p.h_min_source = layer.hazard.roughness_threshold_m ? "roughness threshold"
+                                                        : "derived roughness threshold";
   }
   p.kernel_face_tan = p.h_min_m / (0.5 * (p.kernel - 1) * layer.resolution_m);
-  p.rho_max_m2 = layer.hazard.rho_max_m2 > 0 ? layer.hazard.rho_max_m2 : p.h_min_m * p.h_min_m / 16.0;
+  p.rho_max_m2 = layer.hazard.rho_max_m2.value_or(p.h_min_m * p.h_min_m / 16.0);
   p.tan_face = p.h_min_m / layer.resolution_m;
   p.min_axis_coverage = hz.min_axis_coverage;
   p.partial_ring_proof = hz.partial_ring_proof;
@@ -59,15 +58,13 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
     p.layers.push_back(resolve_layer_hazard(layer, config));
     largest = std::max(largest, layer.size * layer.resolution_m);
   }
-  p.critical_height_m = config.hazard.critical_height_m > 0 ? config.hazard.critical_height_m
-                        : p.layers.empty()                   ? 0.0
-                                                             : p.layers.front().h_min_m;
-  p.critical_height_source = config.hazard.critical_height_m > 0
+  p.critical_height_m = config.hazard.critical_height_m.value_or(
+      p.layers.empty() ? 0.0 : p.layers.front().h_min_m);
+  p.critical_height_source = config.hazard.critical_height_m
                                  ? "hazard.critical_height"
                                  : "critical height (finest layer's h_min)";
-  p.footprint_radius_m = config.hazard.footprint_radius_m >= 0 ? config.hazard.footprint_radius_m
-                                                               : config.hazard.wheelbase_m / 2.0;
-  p.fused_extent_m = config.hazard.fused_extent_m > 0 ? config.hazard.fused_extent_m : largest;
+  p.footprint_radius_m = config.hazard.footprint_radius_m.value_or(config.hazard.wheelbase_m / 2.0);
+  p.fused_extent_m = config.hazard.fused_extent_m.value_or(largest);
   p.finer_proof = config.hazard.finer_proof;
   return p;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 #include <variant>
@@ -67,6 +68,11 @@ void parse_map(YamlMap& m, const std::vector<Key>& keys, std::size_t begin, std:
   m.finish(known);
 }
 
+template <class T>
+struct IsOptional : std::false_type {};
+template <class T>
+struct IsOptional<std::optional<T>> : std::true_type {};
+
 /// Reads one key (`name` within map `m`) into its member of `owner`.
 template <class Owner>
 void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, Owner& owner) {
@@ -92,13 +98,21 @@ void read_key(YamlMap& m, const std::string& name, const ConfigKey<Owner>& key, 
               m.fail(name, "expected 4 integers [x, y, width, height]");
             field(owner)[i] = static_cast<int>(values[i]);
           }
-        } else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>) {
-          // A number, or the word `auto`.
+        } else if constexpr (IsOptional<std::remove_reference_t<decltype(field(owner))>>::value) {
+          // A number, or the word `auto` (empty). An old config's way to say `auto` (0, or
+          // a negative number) fails here, where the error can name the line.
           if (!m.has(name)) return;
           std::string text;
           m.get(name, text);
-          field(owner).automatic = text == "auto";
-          if (!field(owner).automatic) m.get(name, field(owner).px);
+          if (text == "auto") {
+            field(owner).reset();
+            return;
+          }
+          typename std::remove_reference_t<decltype(field(owner))>::value_type value{};
+          m.get(name, value);
+          for (const ValueCheck& check : key.checks)
+            if (check.old_auto && !check.passes(value)) m.fail(name, check.message());
+          field(owner) = value;
         } else {
           m.get(name, field(owner));
         }
@@ -179,8 +193,9 @@ void check_key(const std::string& name, const ConfigKey<Owner>& key, Owner& owne
           check_number(static_cast<double>(field(owner)));
         else if constexpr (std::is_same_v<F, std::array<int, 4>& (*)(Owner&)>)
           for (const int v : field(owner)) check_number(v);
-        else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>)
-          if (!field(owner).automatic) check_number(field(owner).px);
+        else if constexpr (std::is_same_v<F, std::optional<double>& (*)(Owner&)> ||
+                           std::is_same_v<F, std::optional<int>& (*)(Owner&)>)
+          if (field(owner)) check_number(static_cast<double>(*field(owner)));
       },
       key.field);
 }
@@ -188,15 +203,13 @@ void check_key(const std::string& name, const ConfigKey<Owner>& key, Owner& owne
 /// The rules that involve more than one key (or one key and a layer's other keys).
 void check_cross_key_rules(const Config& c) {
   const StereoConfig& s = c.stereo;
-  if (s.sgbm_p2 != 0 && s.sgbm_p2 <= s.sgbm_p1)
+  if (s.sgbm_p2 && *s.sgbm_p2 <= s.sgbm_p1.value_or(0))
     invalid("stereo.sgbm_p2", "must be greater than sgbm_p1");
   if (!(s.z_max_m > s.z_min_m)) invalid("stereo.z_max", "must be greater than stereo.z_min");
   if (s.c2f.paths != 4 && s.c2f.paths != 8) invalid("stereo.c2f.paths", "must be 4 or 8");
   // Without pointing error the covariance is singular: every det weight would be infinite.
   if (c.rules.ccm.weighting == CcmWeighting::det && !(c.sensor.pointing_error_px > 0))
     invalid("rules.ccm.weighting", "'det' needs sensor.pointing_error_px > 0 (singular covariance)");
-  if (!std::isfinite(c.hazard.critical_height_m) || c.hazard.critical_height_m == 0)
-    invalid("hazard.critical_height", "must be > 0 (or < 0 to use the finest layer's h_min)");
 
   for (size_t i = 0; i < c.map.layers.size(); ++i) {
     const LayerConfig& l = c.map.layers[i];
@@ -266,9 +279,9 @@ void emit_value(YAML::Emitter& out, const ConfigKey<Owner>& key, Owner& owner) {
           out << YAML::Flow << YAML::BeginSeq;
           for (const int v : field(owner)) out << v;
           out << YAML::EndSeq;
-        } else if constexpr (std::is_same_v<F, RowOffsetSetting& (*)(Owner&)>) {
-          if (field(owner).automatic) out << "auto";
-          else out << field(owner).px;
+        } else if constexpr (IsOptional<std::remove_reference_t<decltype(field(owner))>>::value) {
+          if (field(owner)) out << *field(owner);
+          else out << "auto";
         } else {
           out << field(owner);
         }

@@ -43,10 +43,32 @@ ValueCheck finite(std::string what, double lo = -kInf, double hi = kInf) {
   c.finite = true;
   return c;
 }
+ValueCheck finite_above(double lo, std::string what) {
+  ValueCheck c = above(lo, std::move(what));
+  c.finite = true;
+  return c;
+}
 ValueCheck or_exactly(double except, ValueCheck c) {
   c.has_except = true;
   c.except = except;
   return c;
+}
+// The numbers an older config wrote for `auto` (`sentinel`: "0", "a negative value"),
+// rejected with the advice to write `auto` (`derived`: what `auto` gives).
+ValueCheck old_auto(ValueCheck numbers, const std::string& sentinel, const std::string& derived) {
+  numbers.old_auto = true;
+  numbers.what = sentinel + " no longer means `auto`: write `auto` (" + derived + ")";
+  return numbers;
+}
+ValueCheck old_auto_zero(const std::string& derived) { return old_auto(in(0, 0, "[]"), "0", derived); }
+ValueCheck old_auto_negative(const std::string& derived) {
+  ValueCheck negative = finite("", -kInf, 0);
+  negative.hi_open = true;
+  return old_auto(negative, "a negative value", derived);
+}
+// The same, for keys whose old `auto` was any value <= 0.
+ValueCheck old_auto_not_positive(const std::string& derived) {
+  return old_auto(finite("", -kInf, 0), "a value <= 0", derived);
 }
 ValueCheck multiple_of(int n, ValueCheck c) {
   c.multiple_of = n;
@@ -64,12 +86,12 @@ std::string number_text(double v) {
 
 bool ValueCheck::passes(double value) const {
   if (has_except && value == except) return true;
-  if (finite && !std::isfinite(value)) return false;
-  if (!(lo_open ? value > lo : value >= lo)) return false;
-  if (!(hi_open ? value < hi : value <= hi)) return false;
-  if (odd && std::fmod(value, 2.0) == 0) return false;
-  if (multiple_of != 0 && std::fmod(value, multiple_of) != 0) return false;
-  return true;
+  const bool described = (!finite || std::isfinite(value)) &&
+                         (lo_open ? value > lo : value >= lo) &&
+                         (hi_open ? value < hi : value <= hi) &&
+                         !(odd && std::fmod(value, 2.0) == 0) &&
+                         !(multiple_of != 0 && std::fmod(value, multiple_of) != 0);
+  return described != old_auto;
 }
 
 std::string ValueCheck::message() const {
@@ -95,14 +117,16 @@ const std::vector<TopKey>& config_keys() {
       {"stereo.speckle_range", CONFIG_FIELD(stereo.speckle_range), "px", "speckle filter's disparity range (x16 for StereoBM, SPEC 3)", {at_least(0)}},
       {"stereo.disp12_max_diff", CONFIG_FIELD(stereo.disp12_max_diff), "px",
        "OpenCV's left-right check, -1 off; removes ground seen by the left camera only (behind rocks)", {}, false, "default.yaml: 1"},
-      {"stereo.sgbm_p1", CONFIG_FIELD(stereo.sgbm_p1), "", "SGBM penalty P1; 0: 8 x block^2", {at_least(0, "penalties must be >= 0")}},
-      {"stereo.sgbm_p2", CONFIG_FIELD(stereo.sgbm_p2), "", "SGBM penalty P2, greater than P1; 0: 32 x block^2", {at_least(0, "penalties must be >= 0")}},
+      {"stereo.sgbm_p1", CONFIG_FIELD(stereo.sgbm_p1), "", "SGBM penalty P1; `auto`: 8 x block^2",
+       {old_auto_zero("8 x block^2"), above(0, "penalties must be > 0 or `auto`")}},
+      {"stereo.sgbm_p2", CONFIG_FIELD(stereo.sgbm_p2), "", "SGBM penalty P2, greater than P1; `auto`: 32 x block^2",
+       {old_auto_zero("32 x block^2"), above(0, "penalties must be > 0 or `auto`")}},
       {"stereo.sgbm_mode", CONFIG_FIELD(stereo.sgbm_mode), "", "SGBM mode", {}},
       {"stereo.pre_filter_type", CONFIG_FIELD(stereo.pre_filter_type), "", "StereoBM pre-filter", {}},
       {"stereo.pre_filter_size", CONFIG_FIELD(stereo.pre_filter_size), "px", "StereoBM `normalized_response` window (odd)", {odd_in(5, 255, "must be odd and in [5, 255]")}},
       {"stereo.input_bits", CONFIG_FIELD(stereo.input_bits), "bits",
-       "significant bits of 16-bit input (0 = detect per pair from the brighter image; 10 or 12 for low-bit sensors); ignored for 8-bit input",
-       {or_exactly(0, in(8, 16, "[]", "must be 0 (detect) or in [8, 16]"))}},
+       "significant bits of 16-bit input (`auto`: detect per pair from the brighter image; 10 or 12 for low-bit sensors); ignored for 8-bit input",
+       {old_auto_zero("detect"), in(8, 16, "[]", "must be in [8, 16] or `auto` (detect)")}},
       {"stereo.rectify_alpha", CONFIG_FIELD(stereo.rectify_alpha), "", "cv::stereoRectify alpha (-1: OpenCV's default)",
        {or_exactly(-1, in(0, 1, "[]", "must be in [0, 1] (or -1 for OpenCV's default)"))}},
       {"stereo.stride", CONFIG_FIELD(stereo.stride), "px", "use every n-th pixel in u and v",
@@ -150,7 +174,7 @@ const std::vector<TopKey>& config_keys() {
        "`ground_band` terrain: depressions down to this below the wheel plane", {finite("must be finite and >= 0", 0)}},
       {"stereo.row_offset_px", CONFIG_FIELD(stereo.row_offset), "px",
        "rows the rectified right image is moved down so that its rows agree with the left's (y_left - y_right of the rectified pair, as `hazmap check` measures it from feature matches; [docs/stereo.md](docs/stereo.md)): a residual calibration error. `auto`: measured once, from the first frame with enough matches. 0 off",
-       {finite("must be a number of pixels in [-100, 100] or `auto`", -100, 100)}},
+       {finite("must be a number of pixels in [-100, 100] or `auto`", -100, 100)}},  // 0 is off: no old `auto`
       {"stereo.c2f.levels", CONFIG_FIELD(stereo.c2f.levels), "", "c2f: pyramid levels; the full-range search runs at 1/2^(levels - 1) of the resolution, each finer level refines", {in(1, 6, "[]")}},
       {"stereo.c2f.radius", CONFIG_FIELD(stereo.c2f.radius), "px", "c2f: a finer level searches +- this around twice the coarser level's disparity", {in(1, 7, "[]")}},
       {"stereo.c2f.census_width", CONFIG_FIELD(stereo.c2f.census_width), "px", "c2f: census window width (a bit per window pixel but the centre: at most 9 x 7)", {odd_in(3, 9, "must be odd and in [3, 9]")}},
@@ -206,13 +230,16 @@ const std::vector<TopKey>& config_keys() {
        {in(0, 1, "[]")}},
       {"hazard.k_sigma", CONFIG_FIELD(hazard.k_sigma), "", "hazard when s - k sigma > T, traversable when s + k sigma <= T (SPEC 8)", {in(0, 100, "[]")}},
       {"hazard.critical_height", CONFIG_FIELD(hazard.critical_height_m), "m",
-       "smallest obstacle the rover must avoid: only layers with h_min <= it may call a fused cell traversable (SPEC 8.4); < 0: the finest layer's h_min"},
+       "smallest obstacle the rover must avoid: only layers with h_min <= it may call a fused cell traversable (SPEC 8.4); `auto`: the finest layer's h_min",
+       {old_auto_negative("the finest layer's h_min"), finite_above(0, "must be finite and > 0, or `auto` (the finest layer's h_min)")}},
       {"hazard.footprint_radius", CONFIG_FIELD(hazard.footprint_radius_m), "m",
-       "radius of the footprint map's disc (SPEC 8.5), at most 100; < 0: wheelbase / 2",
-       {finite("must be finite and <= 100 m, a reach in cells must fit an int (< 0: wheelbase / 2)", -kInf, 100)}},
+       "radius of the footprint map's disc (SPEC 8.5), at most 100; `auto`: wheelbase / 2",
+       {old_auto_negative("wheelbase / 2"),
+        finite("must be finite, in [0, 100] m (a reach in cells must fit an int), or `auto` (wheelbase / 2)", 0, 100)}},
       {"hazard.fused_extent", CONFIG_FIELD(hazard.fused_extent_m), "m",
-       "side of the fused and footprint maps, at the finest resolution; 0: the largest layer's extent",
-       {in(0, 1e4, "[)", "must be in [0, 1e4) m (0: the largest layer's extent)")}},
+       "side of the fused and footprint maps, at the finest resolution; `auto`: the largest layer's extent",
+       {old_auto_zero("the largest layer's extent"),
+        in(0, 1e4, "()", "must be in (0, 1e4) m or `auto` (the largest layer's extent)")}},
       {"hazard.finer_proof", CONFIG_FIELD(hazard.finer_proof), "",
        "fused map: a hazard of one layer yields where a strictly finer layer with h_min <= critical_height proves the cell traversable (a coarse cell on a rock's rim is a hazard over its whole area; the finer layer measured this part of it and passed every test); false: any layer's hazard stands (SPEC 8.4)",
        {}, false, "shipped `cadre_flight`, `cadre_full_res`: `true`"},
@@ -257,16 +284,20 @@ const std::vector<LayerKey>& layer_keys() {
                " (a layer's size^2 cells are addressed with 32-bit indices)")}, true},
       {"rule", LAYER_FIELD(rule), "", "the layer's update rule, one of the registry's (allowed); `bananas` is the baseline: last point", {}, true},
       {"max_std_ratio", LAYER_FIELD(max_std_ratio), "",
-       "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; < 0: `rules.ccm.max_std_ratio`",
-       {finite("must be finite")}},
+       "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; `auto`: `rules.ccm.max_std_ratio`",
+       {old_auto_negative("rules.ccm.max_std_ratio"), finite("must be finite and >= 0 (0: off), or `auto` (rules.ccm.max_std_ratio)", 0)}},
       {"hazard.kernel", LAYER_FIELD(hazard.kernel), "cells",
        "piecewise-constant layers: roughness kernel diameter (odd, smaller than the layer)",
        {odd_in(1, kInf, "must be odd, >= 1 and smaller than the layer size")}},
       {"hazard.roughness_threshold", LAYER_FIELD(hazard.roughness_threshold_m), "m",
-       "piecewise-constant roughness threshold; < 0: (kernel - 1) r tan(max_slope)"},
+       "piecewise-constant roughness threshold; `auto`: (kernel - 1) r tan(max_slope)",
+       {old_auto_negative("(kernel - 1) r tan(max_slope)"), finite("must be finite and >= 0, or `auto`", 0)}},
       {"hazard.h_min", LAYER_FIELD(hazard.h_min_m), "m",
-       "smallest obstacle the layer vouches for (SPEC 8.1-8.4); < 0: CCM 0.75 r (rock face if inclination > atan(h_min / r)), piecewise constant its roughness threshold"},
-      {"hazard.rho_max", LAYER_FIELD(hazard.rho_max_m2), "m^2", "CCM roughness threshold; < 0: h_min^2 / 16"},
+       "smallest obstacle the layer vouches for (SPEC 8.1-8.4); `auto`: CCM 0.75 r (rock face if inclination > atan(h_min / r)), piecewise constant its roughness threshold",
+       {old_auto_not_positive("CCM 0.75 r, piecewise constant the roughness threshold"),
+        finite_above(0, "must be finite and > 0, or `auto`")}},
+      {"hazard.rho_max", LAYER_FIELD(hazard.rho_max_m2), "m^2", "CCM roughness threshold; `auto`: h_min^2 / 16",
+       {old_auto_not_positive("h_min^2 / 16"), finite_above(0, "must be finite and > 0, or `auto`")}},
   };
   return keys;
 }
@@ -308,8 +339,8 @@ std::string default_text(const ConfigKey<Owner>& key, Owner& defaults) {
           using V = std::decay_t<decltype(value)>;
           if constexpr (std::is_same_v<V, bool>) text << (value ? "true" : "false");
           else if constexpr (std::is_enum_v<V>) text << "`" << enum_name(value) << "`";
-          else if constexpr (std::is_same_v<V, RowOffsetSetting>)
-            text << (value.automatic ? std::string("`auto`") : number_text(value.px));
+          else if constexpr (std::is_same_v<V, std::optional<double>> || std::is_same_v<V, std::optional<int>>)
+            text << (value ? number_text(*value) : std::string("`auto`"));
           else if constexpr (std::is_same_v<V, std::array<int, 4>>)
             text << "`[" << value[0] << ", " << value[1] << ", " << value[2] << ", " << value[3] << "]`";
           else text << value;
@@ -325,7 +356,8 @@ template <class Owner>
 std::string allowed(const ConfigKey<Owner>& key) {
   std::string text;
   for (const std::string& c : key_choices(key)) text += (text.empty() ? "`" : " `") + c + "`";
-  for (const ValueCheck& c : key.checks) text += (text.empty() ? "" : "; ") + c.message();
+  for (const ValueCheck& c : key.checks)
+    if (!c.old_auto) text += (text.empty() ? "" : "; ") + c.message();
   return text;
 }
 

@@ -15,7 +15,7 @@
 namespace hazmap {
 
 double gate_std_m(const LayerConfig& layer, const RulesConfig& rules) {
-  const double ratio = layer.max_std_ratio < 0 ? rules.ccm.max_std_ratio : layer.max_std_ratio;
+  const double ratio = layer.max_std_ratio.value_or(rules.ccm.max_std_ratio);
   return ratio > 0 ? ratio * layer.resolution_m / std::sqrt(12.0) : 0.0;
 }
 

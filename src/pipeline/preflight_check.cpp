@@ -175,7 +175,7 @@ RowOffsetCheck summarise_row_offsets(const std::vector<RowOffsetEstimate>& per_f
                                      const StereoFrontEnd& front, const Config& config) {
   RowOffsetCheck out;
   out.applied_px = front.rectifier().row_offset();
-  out.automatic = config.stereo.row_offset.automatic;
+  out.automatic = !config.stereo.row_offset.has_value();
   std::vector<double> offsets, spreads;
   for (const RowOffsetEstimate& e : per_frame) {
     out.matches += e.matches;

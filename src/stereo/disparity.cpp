@@ -42,8 +42,8 @@ cv::Ptr<cv::StereoMatcher> create_stereo_matcher(const StereoConfig& c, int min_
       case SgbmMode::hh4: mode = cv::StereoSGBM::MODE_HH4; break;
     }
     return cv::StereoSGBM::create(min_disparity, num_disparities, c.block_size,
-                                  c.sgbm_p1 > 0 ? c.sgbm_p1 : 8 * area,
-                                  c.sgbm_p2 > 0 ? c.sgbm_p2 : 32 * area, c.disp12_max_diff,
+                                  c.sgbm_p1.value_or(8 * area),
+                                  c.sgbm_p2.value_or(32 * area), c.disp12_max_diff,
                                   c.pre_filter_cap, c.uniqueness_ratio, speckle_window,
                                   c.speckle_range, mode);
   }

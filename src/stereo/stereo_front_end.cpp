@@ -21,7 +21,7 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
                                const StereoCalibration& calibration, bool keep_pixels)
     : grey_(stereo.input_bits),
       rectifier_(calibration, stereo.rectify_alpha,
-                 stereo.row_offset.automatic ? 0.0 : stereo.row_offset.px),
+                 stereo.row_offset.value_or(0.0)),
       matcher_(stereo, rectifier_.geometry(),
                rectified_camera_in_body(calibration.T_B_C, rectifier_.R1()),
                rectifier_.image_size()),
@@ -29,7 +29,7 @@ StereoFrontEnd::StereoFrontEnd(const StereoConfig& stereo, const SensorConfig& s
       builder_(stereo, sensor, rectifier_.geometry(), rectifier_.R1(), calibration.T_B_C,
                rectifier_.valid_roi(), rectifier_.valid_roi_right()),
       keep_pixels_(keep_pixels),
-      auto_row_offset_tries_(stereo.row_offset.automatic ? kAutoRowOffsetFrames : 0) {
+      auto_row_offset_tries_(stereo.row_offset ? 0 : kAutoRowOffsetFrames) {
   builder_.set_search_end_by_row(matcher_.search_end_by_row(rectifier_.image_size().height));
 }
 

@@ -188,12 +188,12 @@ TEST(Config, EveryShippedConfigLoadsAndMatchesTheThesisTables) {
   const int kernels[] = {7, 5, 5, 3};
   for (size_t i = 0; i < 4; ++i) {
     EXPECT_EQ(pwc.map.layers[i].rule, RuleKind::omg);
-    EXPECT_DOUBLE_EQ(pwc.map.layers[i].hazard.roughness_threshold_m, thresholds[i]);
+    EXPECT_DOUBLE_EQ(pwc.map.layers[i].hazard.roughness_threshold_m.value_or(-1), thresholds[i]);
     EXPECT_EQ(pwc.map.layers[i].hazard.kernel, kernels[i]);
   }
   const Config ccm = load_config(testing::source_dir() / "config/thesis_ccm.yaml");
   ASSERT_EQ(ccm.map.layers.size(), 5u);
-  for (const auto& l : ccm.map.layers) EXPECT_NEAR(l.hazard.h_min_m, 0.75 * l.resolution_m, 1e-12);
+  for (const auto& l : ccm.map.layers) EXPECT_NEAR(l.hazard.h_min_m.value_or(-1), 0.75 * l.resolution_m, 1e-12);
 }
 
 // Issue 24: values that become loop steps, indices or sizes are bounded, with the reason.
@@ -215,8 +215,8 @@ TEST(Config, StrideResolutionAndLayerSizeAreBounded) {
             "");
   // Radii become a reach in cells (radius / r as int): 1e300 overflowed the conversion.
   EXPECT_EQ(config_error(kMinimal, {"hazard.footprint_radius=1e300"}),
-            "config: key 'hazard.footprint_radius': must be finite and <= 100 m, a reach in cells "
-            "must fit an int (< 0: wheelbase / 2)");
+            "config: key 'hazard.footprint_radius': must be finite, in [0, 100] m (a reach in "
+            "cells must fit an int), or `auto` (wheelbase / 2)");
   EXPECT_EQ(config_error(kMinimal, {"hazard.wheelbase=1e300"}),
             "config: key 'hazard.wheelbase': must be in (0, 100] m (a reach in cells must fit an "
             "int)");

@@ -3,6 +3,7 @@
 // each against the formula computed here, with the layers' per-insertion counts.
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -23,7 +24,7 @@ Measurement point(double x, double y, double z, double sigma_z, double sigma_xy)
   return m;
 }
 
-MapConfig one_layer(RuleKind rule, double r, int n, double max_std_ratio = -1) {
+MapConfig one_layer(RuleKind rule, double r, int n, std::optional<double> max_std_ratio = std::nullopt) {
   MapConfig map;
   LayerConfig l;
   l.rule = rule;
@@ -69,7 +70,7 @@ TEST(Gates, LateralGateDropsExactlyThePointsTheFormulaSaysForEveryRule) {
     LayerStack own(one_layer(rule, r, n, ratio), rules);
     RulesConfig fallback_rules;
     fallback_rules.ccm.max_std_ratio = ratio;
-    LayerStack fallback(one_layer(rule, r, n, -1), fallback_rules);
+    LayerStack fallback(one_layer(rule, r, n, std::nullopt), fallback_rules);  // auto
     // 0 turns the gate off whatever rules.ccm says; the reference gets only the kept points.
     LayerStack off(one_layer(rule, r, n, 0.0), fallback_rules);
     LayerStack reference(one_layer(rule, r, n), rules);

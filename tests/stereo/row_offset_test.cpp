@@ -176,16 +176,14 @@ TEST(RowOffset, SharedK10PairAgreesToAboutAPixel) {
 }
 
 TEST(RowOffset, ConfigTakesANumberOrAuto) {
-  EXPECT_FALSE(Config{}.stereo.row_offset.automatic);
-  EXPECT_EQ(Config{}.stereo.row_offset.px, 0.0);
+  EXPECT_EQ(Config{}.stereo.row_offset, 0.0);
   const Config number = parse_config(kLayer + "stereo: {row_offset_px: -1.25}\n", "c.yaml");
-  EXPECT_FALSE(number.stereo.row_offset.automatic);
-  EXPECT_EQ(number.stereo.row_offset.px, -1.25);
+  EXPECT_EQ(number.stereo.row_offset, -1.25);
   const Config automatic = parse_config(kLayer + "stereo: {row_offset_px: auto}\n", "c.yaml");
-  EXPECT_TRUE(automatic.stereo.row_offset.automatic);
+  EXPECT_FALSE(automatic.stereo.row_offset.has_value());
   // The resolved configuration reads back as it was.
-  EXPECT_TRUE(parse_config(to_yaml(automatic), "dump").stereo.row_offset.automatic);
-  EXPECT_EQ(parse_config(to_yaml(number), "dump").stereo.row_offset.px, -1.25);
+  EXPECT_FALSE(parse_config(to_yaml(automatic), "dump").stereo.row_offset.has_value());
+  EXPECT_EQ(parse_config(to_yaml(number), "dump").stereo.row_offset, -1.25);
   for (const char* bad : {"stereo: {row_offset_px: 101}\n", "stereo: {row_offset_px: .nan}\n",
                           "stereo: {row_offset_px: automatic}\n"}) {
     SCOPED_TRACE(bad);

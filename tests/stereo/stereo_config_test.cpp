@@ -62,7 +62,7 @@ TEST(StereoConfig, BadValuesNameTheKey) {
   EXPECT_EQ(error_of("stereo: {pre_filter_size: 4}\n"),
             "config: key 'stereo.pre_filter_size': must be odd and in [5, 255]");
   EXPECT_EQ(error_of("stereo: {input_bits: 20}\n"),
-            "config: key 'stereo.input_bits': must be 0 (detect) or in [8, 16]");
+            "config: key 'stereo.input_bits': must be in [8, 16] or `auto` (detect)");
   EXPECT_NE(error_of("stereo: {roi: [1, 2, 3]}\n").find("key 'stereo.roi': expected a list of 4 numbers"),
             std::string::npos);
   EXPECT_NE(error_of("stereo: {roi: [1, 2, 3.5, 4]}\n")

@@ -7,6 +7,8 @@
 // image would crush it to 4 or 16 grey levels. Both images share the factor so that
 // their brightness still matches.
 
+#include <optional>
+
 #include <opencv2/core.hpp>
 
 namespace hazmap {
@@ -17,9 +19,9 @@ int significant_bits(const cv::Mat& left_u16, const cv::Mat& right_u16);
 
 class GreyPairConverter {
  public:
-  /// `input_bits`: significant bits of 16-bit input in [8, 16], or 0 to detect them per
-  /// pair with significant_bits(). Throws Error otherwise.
-  explicit GreyPairConverter(int input_bits = 0);
+  /// `input_bits`: significant bits of 16-bit input in [8, 16], or none (stereo.input_bits
+  /// `auto`) to detect them per pair with significant_bits(). Throws Error otherwise.
+  explicit GreyPairConverter(std::optional<int> input_bits = std::nullopt);
 
   /// Converts both images (same depth and channel count) into `out_*`, reusing their
   /// buffers and the converter's. Returns the bit count used (8 for 8-bit input).
@@ -27,7 +29,7 @@ class GreyPairConverter {
   int convert(const cv::Mat& left, const cv::Mat& right, cv::Mat& out_left, cv::Mat& out_right);
 
  private:
-  int input_bits_;
+  std::optional<int> input_bits_;
   cv::Mat grey_left_, grey_right_;  ///< luminance of colour 16-bit input
 };
 

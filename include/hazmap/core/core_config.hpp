@@ -4,6 +4,7 @@
 // (io/config.hpp, SPEC 13) that LayerStack and the hazard parameters read. No parsing
 // here: YAML loading and validation live with the rest of the configuration in io/.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,13 +38,18 @@ struct EnumNames<RoughnessStatistic> {
   static constexpr const char* names[] = {"range", "detrended"};
 };
 
+// A setting the user may leave to the program is a std::optional: empty is YAML's `auto`
+// (derived from other settings, or measured), resolved once where it is used
+// (hazard/hazard_params.hpp, gate_std_m, create_stereo_matcher, StereoFrontEnd).
+
 struct LayerHazardConfig {
   int kernel = 5;                    ///< roughness kernel diameter in cells (odd)
-  double roughness_threshold_m = -1; ///< < 0: derived as (kernel - 1) r tan(max_slope)
-  /// Smallest obstacle the layer vouches for (SPEC 8.1-8.4); < 0: derived (CCM 0.75 r,
+  /// auto: derived as (kernel - 1) r tan(max_slope).
+  std::optional<double> roughness_threshold_m;
+  /// Smallest obstacle the layer vouches for (SPEC 8.1-8.4); auto: derived (CCM 0.75 r,
   /// piecewise constant: its roughness threshold).
-  double h_min_m = -1;
-  double rho_max_m2 = -1;            ///< CCM roughness threshold; < 0: h_min^2 / 16
+  std::optional<double> h_min_m;
+  std::optional<double> rho_max_m2;  ///< CCM roughness threshold; auto: h_min^2 / 16
 };
 
 struct LayerConfig {
@@ -51,8 +57,8 @@ struct LayerConfig {
   int size = 128;  ///< cells per side, even
   RuleKind rule = RuleKind::kalman;
   /// SPEC 4 gating: drop points whose lateral std exceeds max_std_ratio * r / sqrt(12);
-  /// 0 off, < 0: rules.ccm.max_std_ratio.
-  double max_std_ratio = -1;
+  /// 0 off, auto: rules.ccm.max_std_ratio.
+  std::optional<double> max_std_ratio;
   LayerHazardConfig hazard;
 };
 
@@ -105,9 +111,10 @@ struct HazardConfig {
   /// 0.1, the axis spans a third of the cell.
   double min_axis_coverage = 0.1;
   double k_sigma = 3.0;          ///< SPEC 8: hazard when s - k sigma > T, traversable when s + k sigma <= T
-  double critical_height_m = -1; ///< SPEC 8.4; < 0: the finest layer's h_min
-  double footprint_radius_m = -1;  ///< SPEC 8.5; < 0: wheelbase / 2
-  double fused_extent_m = 0;     ///< side of the fused/footprint maps; 0: the largest layer's
+  std::optional<double> critical_height_m;   ///< SPEC 8.4; auto: the finest layer's h_min
+  std::optional<double> footprint_radius_m;  ///< SPEC 8.5; auto: wheelbase / 2
+  /// Side of the fused/footprint maps; auto: the largest layer's extent.
+  std::optional<double> fused_extent_m;
   /// Fused map (issue 34): a finer layer's proof of traversability outweighs a coarser
   /// layer's hazard on the fine cell (HazardFusion::set_finer_proof); false: SPEC 8.4.
   bool finer_proof = false;

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <variant>
@@ -20,11 +21,13 @@
 
 namespace hazmap {
 
-/// One value check on a numeric key (an int array: on every element). The value passes
-/// when it equals `except`, or when it lies in the interval (`lo`, `hi`; an end at
-/// +-infinity is unbounded, NaN fails every interval), is finite if `finite`, odd if
-/// `odd` and a multiple of `multiple_of` if that is not 0. `what` is the error's text
-/// ("must be ..."); empty: generated from the interval.
+/// One value check on a numeric key (an int array: on every element; a key that may be
+/// `auto`: on its number). The value passes when it equals `except`, or when it lies in
+/// the interval (`lo`, `hi`; an end at +-infinity is unbounded, NaN fails every interval),
+/// is finite if `finite`, odd if `odd` and a multiple of `multiple_of` if that is not 0.
+/// `what` is the error's text ("must be ..."); empty: generated from the interval.
+/// An `old_auto` check turns this round: the numbers it describes are how older configs
+/// said `auto` (0, or < 0); they fail, and the error says to write `auto`.
 struct ValueCheck {
   double lo = -std::numeric_limits<double>::infinity();
   bool lo_open = false;
@@ -35,6 +38,7 @@ struct ValueCheck {
   int multiple_of = 0;
   bool has_except = false;
   double except = 0;
+  bool old_auto = false;
   std::string what;
 
   bool passes(double value) const;
@@ -45,7 +49,8 @@ struct ValueCheck {
 /// Where a key's value lives in its owner (Config, or one LayerConfig for map.layers.N.*);
 /// std::monostate for the layer list's own entry, whose elements have the layer keys.
 /// An enum's names come from its EnumNames (core/enum_names.hpp), RuleKind's from the rule
-/// registry; a new enum type needs its alternative here.
+/// registry; a new enum type needs its alternative here. A std::optional member is a
+/// number or `auto` (empty).
 template <class Owner>
 using KeyField =
     std::variant<std::monostate, int& (*)(Owner&), double& (*)(Owner&), bool& (*)(Owner&),
@@ -53,7 +58,7 @@ using KeyField =
                  CcmWeighting& (*)(Owner&), RoughnessStatistic& (*)(Owner&),
                  StereoMatcher& (*)(Owner&), SgbmMode& (*)(Owner&), PreFilterType& (*)(Owner&),
                  DisparitySearch& (*)(Owner&), SensorModel& (*)(Owner&), GridFormat& (*)(Owner&),
-                 RowOffsetSetting& (*)(Owner&)>;
+                 std::optional<double>& (*)(Owner&), std::optional<int>& (*)(Owner&)>;
 
 /// One configuration key.
 template <class Owner>

@@ -4,6 +4,7 @@
 // needs nothing above it; io/config.hpp aggregates it into Config and parses it.
 
 #include <array>
+#include <optional>
 
 #include "hazmap/core/enum_names.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
@@ -44,14 +45,6 @@ struct EnumNames<SensorModel> {
   static constexpr const char* names[] = {"axis", "ray"};
 };
 
-/// stereo.row_offset_px: rows the rectified right image moves down to agree with the left
-/// (y_left - y_right of the rectified pair, stereo/row_offset.hpp), or `auto`: measured
-/// once from the first frames.
-struct RowOffsetSetting {
-  bool automatic = false;
-  double px = 0.0;
-};
-
 /// Largest stereo.stride validate() accepts (pixels).
 constexpr int kMaxStride = 4096;
 
@@ -81,14 +74,14 @@ struct StereoConfig {
   int speckle_window = 100;         ///< 0 disables the speckle filter
   int speckle_range = 2;            ///< pixels (scaled x16 for StereoBM, SPEC 3)
   int disp12_max_diff = -1;         ///< left-right consistency in px; -1 disables
-  int sgbm_p1 = 0;                  ///< 0: 8 * block_size^2
-  int sgbm_p2 = 0;                  ///< 0: 32 * block_size^2
+  std::optional<int> sgbm_p1;       ///< auto: 8 * block_size^2
+  std::optional<int> sgbm_p2;       ///< auto: 32 * block_size^2
   SgbmMode sgbm_mode = SgbmMode::hh;
   PreFilterType pre_filter_type = PreFilterType::normalized_response;  ///< StereoBM only
   int pre_filter_size = 9;          ///< StereoBM normalized_response window: odd, 5..255
   /// Significant bits of 16-bit input (10, 12, ...: the pair is scaled by 2^(8 - bits) to
-  /// 8 bit); 0 detects them per pair from the brighter image. Ignored for 8-bit input.
-  int input_bits = 0;
+  /// 8 bit); auto detects them per pair from the brighter image. Ignored for 8-bit input.
+  std::optional<int> input_bits;
   double rectify_alpha = 0.0;
   int stride = 1;                   ///< use every stride-th pixel in u and v (<= kMaxStride)
   /// Region of interest in the rectified left image, pixels: x, y, width, height.
@@ -137,7 +130,10 @@ struct StereoConfig {
   double band_max_slope_deg = 30.0;  ///< ground_band: wheel plane tilted up to this [deg]
   double band_max_height_m = 0.5;    ///< ground_band: obstacles up to this above it [m]
   double band_max_depth_m = 0.5;     ///< ground_band: depressions down to this below it [m]
-  RowOffsetSetting row_offset;      ///< stereo.row_offset_px
+  /// stereo.row_offset_px: rows the rectified right image moves down to agree with the
+  /// left (y_left - y_right of the rectified pair, stereo/row_offset.hpp), or auto:
+  /// measured once from the first frames.
+  std::optional<double> row_offset = 0.0;
   C2fConfig c2f;
 };
 
