@@ -69,6 +69,7 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
                                                                : config.hazard.wheelbase_m / 2.0;
   p.fused_extent_m = config.hazard.fused_extent_m > 0 ? config.hazard.fused_extent_m : largest;
   p.finer_proof = config.hazard.finer_proof;
+  p.coarse_ring_fill = config.hazard.coarse_ring_fill;
   return p;
 }
 
