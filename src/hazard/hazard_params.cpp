@@ -66,6 +66,7 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
   p.footprint_radius_m = config.hazard.footprint_radius_m.value_or(config.hazard.wheelbase_m / 2.0);
   p.fused_extent_m = config.hazard.fused_extent_m.value_or(largest);
   p.finer_proof = config.hazard.finer_proof;
+  p.coarse_ring_fill = config.hazard.coarse_ring_fill;
   return p;
 }
 

@@ -94,6 +94,14 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
     classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
     fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});
   }
+  // views_ never grows: the fallbacks may keep pointers to its grids.
+  fills_.resize(views_.size());
+  for (size_t i = 0; params.coarse_ring_fill && i + 1 < views_.size(); ++i)
+    if (params_.layers[i].ring_tests && params_.layers[i + 1].family == HazardFamily::plane) {
+      fills_[i] = std::make_unique<CoarseRingFill>(params_.layers[i + 1]);
+      fills_[i]->set_grids(&views_[i + 1].map);
+      classifiers_[i]->set_ring_fallback(fills_[i].get());
+    }
 }
 
 void HazardStage::run(const LayerStack& map) {
@@ -112,7 +120,8 @@ void HazardStage::run(const LayerStack& map) {
   }
   fused_region_.clear();
   bool whole = false;
-  for (size_t i = 0; i < map.size(); ++i)
+  // Coarsest first: a finer layer's rings may read the coarser layer's fresh export.
+  for (size_t i = map.size(); i-- > 0;)
     if (!run_layer(map, i, fused_x0, fused_y0, cells)) whole = true;
   run_planner(whole, fused_x0, fused_y0, cells);
 }
@@ -135,12 +144,25 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   const CellRange& old_window = move.old_window;
   const int drow = move.drow, dcol = move.dcol;
   s.classified.clear();
+  s.moved = move;
+  // The coarser layer this one's rings read (coarse_ring_fill), run before this one: its
+  // cells map onto whole blocks of this layer's, else this layer is classified whole.
+  const bool fill = i + 1 < map.size() && fills_[i] != nullptr;
+  const auto coarse_scale = fill ? static_cast<CellIndex>(std::llround(
+                                       map.layer(i + 1).grid().resolution_m() / g.resolution_m()))
+                                 : CellIndex{1};
+  const bool coarse_whole =
+      fill && (layer_state_[i + 1].whole || !layer_state_[i + 1].moved.placed ||
+               std::abs(map.layer(i + 1).grid().resolution_m() / g.resolution_m() -
+                        double(coarse_scale)) > 1e-6);
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
   }
 
-  if (!incremental_ || !placed || map.exports_vary(i)) {
+  // Whole when the coarser layer this one's rings read was (rare: a jump, the first frame).
+  s.whole = !incremental_ || !placed || map.exports_vary(i) || coarse_whole;
+  if (s.whole) {
     map.export_layer(i, v.map);
     classifiers_[i]->classify(v.map, v.hazard, v.diagnostics);
     s.classified.add(GridRect::full(n, n));
@@ -172,6 +194,17 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
     // above, and near the strips that left (a kernel or ring there now leaves the layer).
     for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
       scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
+    if (fill) {  // and near what the coarser layer's rings read changed: cells and strips
+      const Placement::Move& cm = layer_state_[i + 1].moved;
+      const RollingGrid& cg = map.layer(i + 1).grid();
+      const CellRange coarse{cg.origin_x(), cg.origin_x() + cg.size(), cg.origin_y(),
+                             cg.origin_y() + cg.size()};
+      scratch_.add(image_rect(map.changed_cells(i + 1), coarse_scale, window.x0, window.y0, n));
+      for (int k = 0, m = difference(coarse, cm.old_window, parts); k < m; ++k)
+        scratch_.add(image_rect(parts[k], coarse_scale, window.x0, window.y0, n));
+      for (int k = 0, m = difference(cm.old_window, coarse, parts); k < m; ++k)
+        scratch_.add(image_rect(parts[k], coarse_scale, window.x0, window.y0, n));
+    }
     s.classified = scratch_;
     s.classified.dilate(classifiers_[i]->reach_cells(), n, n);
     for (const GridRect& r : s.classified) classifiers_[i]->classify(v.map, r, v.hazard, v.diagnostics);

@@ -64,11 +64,22 @@ int c2f_disparity_end(const StereoConfig& c, const StereoGeometry& geometry, int
   return static_cast<int>(std::min<long long>(end, width));
 }
 
+namespace {
+
+/// The window a matcher compares: c2f's census window, else the block.
+cv::Size matcher_window(const StereoConfig& c) {
+  return c.matcher == StereoMatcher::c2f ? cv::Size(c.c2f.census_width, c.c2f.census_height)
+                                         : cv::Size(c.block_size, c.block_size);
+}
+
+}  // namespace
+
 DisparityMatcher::DisparityMatcher(const StereoConfig& c)
     : matcher_(create_stereo_matcher(c, c.min_disparity, c.num_disparities, true)),
       min_disparity_(c.min_disparity),
       searched_min_(c.min_disparity),
-      searched_num_(c.num_disparities) {
+      searched_num_(c.num_disparities),
+      gate_(c.min_texture_snr, matcher_window(c)) {
   if (c.search != DisparitySearch::full)
     throw Error("config: key 'stereo.search': '" + std::string(enum_name(c.search)) +
                 "' needs the camera geometry; this matcher only does a full search");
@@ -94,7 +105,7 @@ void check_against_image(const StereoConfig& c, cv::Size image) {
 DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& geometry,
                                    const Pose3d& T_B_Cr, cv::Size image_size)
     : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
-      searched_num_(c.num_disparities) {
+      searched_num_(c.num_disparities), gate_(c.min_texture_snr, matcher_window(c)) {
   check_against_image(c, image_size);
   if (c.matcher == StereoMatcher::c2f) {
     if (c.search != DisparitySearch::full)
@@ -146,6 +157,8 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     band_->compute(left, right, disparity_x16);
   else
     matcher_->compute(left, right, disparity_x16);
+  if (gate_.enabled())
+    noise_dn_ = gate_.apply(left, disparity_x16, static_cast<short>(invalid_below()));
 }
 
 }  // namespace hazmap

@@ -72,6 +72,16 @@ Config variant(const std::string& name) {
     c.pose_uncertainty.enabled = true;
     return c;
   }
+  if (name == "thesis_ccm_fill") {  // CCM rings filled from the coarser CCM layer
+    Config c = load_config(testing::source_dir() / "config/thesis_ccm.yaml");
+    c.hazard.coarse_ring_fill = true;
+    return c;
+  }
+  if (name == "cadre_flight_no_fill") {
+    Config c = load_config(testing::source_dir() / "config/cadre_flight.yaml");
+    c.hazard.coarse_ring_fill = false;
+    return c;
+  }
   if (name == "thesis_pwc_decay") {  // pooled OMG layers; decay scales weights only
     Config c = load_config(testing::source_dir() / "config/thesis_pwc.yaml");
     c.rules.omg.decay = 0.9;
@@ -130,7 +140,8 @@ TEST_P(IncrementalHazards, EqualToAWholePassInEveryFrame) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, IncrementalHazards,
-                         ::testing::Values("cadre_flight", "cadre_flight_static",
+                         ::testing::Values("cadre_flight", "cadre_flight_static", "cadre_flight_no_fill",
+                                           "thesis_ccm_fill",
                                            "cadre_flight_pose", "thesis_pwc_decay", "thesis_ccm",
                                            "default"));
 

@@ -123,6 +123,9 @@ struct HazardConfig {
   /// is often the rock that hid it, and rim cells with ground-level heights were proven
   /// (docs/hazards.md).
   bool partial_ring_proof = false;
+  /// Wheel ring (issue 34): a sample this layer has not measured is taken from the next
+  /// coarser layer's plane where that layer measured it (HazardStage, CoarseRingFill).
+  bool coarse_ring_fill = false;
   /// SPEC 8.6: re-classify only the cells whose result can have changed (equal to a full
   /// pass; false: every cell of every layer every frame, for comparison).
   bool incremental = true;

@@ -27,6 +27,15 @@ struct HazardDiagnostics {
   DenseGrid kernel_slope_sigma;
 };
 
+/// Where a wheel-ring sample comes from when the layer has not measured its point
+/// (hazard.coarse_ring_fill): a coarser layer's surface (CoarseRingFill).
+class RingFallback {
+ public:
+  virtual ~RingFallback() = default;
+  /// The terrain at W point (x, y), or an unknown sample.
+  virtual RingSample at(double x_m, double y_m) const = 0;
+};
+
 class HazardClassifier {
  public:
   explicit HazardClassifier(const LayerHazardParams& params)
@@ -50,6 +59,10 @@ class HazardClassifier {
 
   const LayerHazardParams& params() const { return params_; }
 
+  /// Ring samples this layer has not measured are asked of `fallback` (null: none). The
+  /// fallback must outlive the classifier's use and read the same frame's map.
+  void set_ring_fallback(const RingFallback* fallback) { fallback_ = fallback; }
+
   /// A diagnostic pass (issue 34; `output.unknown_reasons`, for `hazmap evaluate`): a
   /// whole-layer classification of `grids` that writes into `reasons` (given the layer's
   /// geometry) the UnknownReason bits of each unknown cell, 0 at known cells. Separate
@@ -71,6 +84,7 @@ class HazardClassifier {
   LayerHazardParams params_;
   WheelRing ring_;
   DenseGrid* reasons_ = nullptr;  ///< set during explain() only
+  const RingFallback* fallback_ = nullptr;
 };
 
 /// The classifier of the layer's family, with the family's shipped list of tests.

@@ -66,6 +66,7 @@ struct HazardParams {
   double footprint_radius_m = 0.15;       ///< SPEC 8.5
   double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
   bool finer_proof = false;               ///< hazard.finer_proof (HazardFusion)
+  bool coarse_ring_fill = false;          ///< hazard.coarse_ring_fill (HazardStage)
 };
 
 /// From the map core's configuration; a run's Config (io/config.hpp) is one.

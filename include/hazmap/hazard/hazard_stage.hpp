@@ -17,11 +17,16 @@
 //    fused window gained; the footprint the cells where the fused map changed, and the
 //    strips the fused window gained or lost, grown by the footprint radius. The hazard
 //    distance stays a whole pass (HazardFusion::footprint).
+//  - with hazard.coarse_ring_fill a layer's rings read the next coarser layer too: the
+//    coarser layer runs first, and the finer one also re-classifies, grown by its reach,
+//    the cells under the coarser layer's changed cells and window strips (whole when the
+//    coarser layer was classified whole).
 // Any frame whose window jumped by its own size or more is computed whole.
 
 #include <memory>
 #include <vector>
 
+#include "hazmap/hazard/coarse_ring_fill.hpp"
 #include "hazmap/hazard/dirty_region.hpp"
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
@@ -87,6 +92,8 @@ class HazardStage {
   struct LayerState {
     Placement at;
     DirtyRegion classified;
+    Placement::Move moved{};  ///< the last run's move of the window
+    bool whole = false;       ///< the last run classified the whole layer
   };
 
   /// Runs layer i; adds to fused_region_ what the fused map must redo because of it.
@@ -98,6 +105,8 @@ class HazardStage {
   HazardParams params_;
   bool incremental_;
   std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
+  /// Layer i's ring fallback on layer i + 1 (hazard.coarse_ring_fill), else null.
+  std::vector<std::unique_ptr<CoarseRingFill>> fills_;
   std::vector<FusionInput> fusion_inputs_;
   HazardFusion fusion_;
   std::vector<LayerView> views_;

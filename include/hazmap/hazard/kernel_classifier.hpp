@@ -21,9 +21,10 @@ namespace hazmap {
 class KernelCell {
  public:
   KernelCell(const LayerGrids& g, const HazardDiagnostics& d, const WheelRing& w, int r, int c,
-             const int* ring_dr, const int* ring_dc, double tan_slope)
+             const int* ring_dr, const int* ring_dc, double tan_slope,
+             const RingFallback* fallback = nullptr)
       : grids(g), diag(d), wheel(w), row(r), col(c), z(g.height.at(r, c)),
-        ring_dr_(ring_dr), ring_dc_(ring_dc), tan_slope_(tan_slope) {}
+        ring_dr_(ring_dr), ring_dc_(ring_dc), tan_slope_(tan_slope), fallback_(fallback) {}
 
   const LayerGrids& grids;
   const HazardDiagnostics& diag;
@@ -42,11 +43,16 @@ class KernelCell {
   /// The wheel ring's samples: for each, the cell holding the sample point, or if it is
   /// unobserved (a fine layer has holes) the nearest observed of its 8 neighbours, whose
   /// height stands d away from the point, which ground up to max_slope can shift by
-  /// d tan(max_slope) (added as variance).
+  /// d tan(max_slope) (added as variance); failing both, the fallback's sample at the
+  /// holding cell's centre, if there is a fallback.
   const RingSample (&ring() const)[WheelRing::kSamples] {
     if (!ring_ready_) {
-      for (int k = 0; k < WheelRing::kSamples; ++k)
-        ring_[k] = sample(row + ring_dr_[k], col + ring_dc_[k]);
+      for (int k = 0; k < WheelRing::kSamples; ++k) {
+        const int r = row + ring_dr_[k], c = col + ring_dc_[k];
+        ring_[k] = sample(r, c);
+        if (!ring_[k].known && fallback_)
+          ring_[k] = fallback_->at(grids.height.x_of_col(c), grids.height.y_of_row(r));
+      }
       ring_ready_ = true;
     }
     return ring_;
@@ -70,6 +76,7 @@ class KernelCell {
   const int* ring_dr_;
   const int* ring_dc_;
   double tan_slope_;
+  const RingFallback* fallback_;
   mutable bool ring_ready_ = false;
   mutable RingSample ring_[WheelRing::kSamples];
 };
@@ -107,7 +114,7 @@ class KernelFamilyClassifier final : public HazardClassifier {
           record(row, col, kReasonNoHeight);
           continue;
         }
-        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope);
+        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope, fallback_);
         const float fill = diag.kernel_fill.at(row, col);
         cell.kernel_complete = !std::isnan(cell.z) && fill >= p.min_kernel_fill;
         const int observed = static_cast<int>(std::lround(double(fill) * kernel_cells_));

@@ -72,6 +72,21 @@ class PlaneSurface {
     return s;
   }
 
+  /// The terrain at W point (x, y) as the plane of the cell holding it says, for a finer
+  /// layer's wheel ring (hazard.coarse_ring_fill): exact when that cell has a plane,
+  /// with the plane's prediction variance plus the residual variance about it (the
+  /// ground under a wheel departs from a plane this coarse as the cell's points did);
+  /// else unknown (no extrapolation: the finer layer asks because nothing was measured).
+  RingSample terrain_at(const LayerGrids& g, double x_m, double y_m) const {
+    int row = 0, col = 0;
+    if (!g.height.cell_at(x_m, y_m, &row, &col) || g.evaluable.at(row, col) != 1.0f)
+      return RingSample{};
+    RingSample s = plane_sample(g, row, col, x_m, y_m);
+    s.var_m2 += plane_cell_noise(g, row, col, max_effective_count_).res_var;
+    s.known = s.exact = s.exact && std::isfinite(s.var_m2);
+    return s;
+  }
+
  private:
   /// The evaluable cell (row, col)'s plane at (x, y) with its prediction variance: the
   /// least-squares res_var / n (1 + d^T C^-1 d), d from the cell centre (an evaluable
@@ -97,8 +112,9 @@ class PlaneSurface {
 /// and wheel ring (sampled on first use from the surface around it).
 class PlaneCell {
  public:
-  PlaneCell(const LayerGrids& g, const PlaneSurface& s, const WheelRing& w, int r, int c, float z0)
-      : grids(g), wheel(w), row(r), col(c), z(z0), surface_(s) {}
+  PlaneCell(const LayerGrids& g, const PlaneSurface& s, const WheelRing& w, int r, int c, float z0,
+            const RingFallback* fallback = nullptr)
+      : grids(g), wheel(w), row(r), col(c), z(z0), surface_(s), fallback_(fallback) {}
 
   const LayerGrids& grids;
   const WheelRing& wheel;
@@ -113,8 +129,12 @@ class PlaneCell {
   const RingSample (&ring() const)[WheelRing::kSamples] {
     if (!ring_ready_) {
       const double cx = grids.height.x_of_col(col), cy = grids.height.y_of_row(row);
-      for (int k = 0; k < WheelRing::kSamples; ++k)
-        ring_[k] = surface_.at(grids, cx + wheel.dx(k), cy + wheel.dy(k));
+      for (int k = 0; k < WheelRing::kSamples; ++k) {
+        const double x = cx + wheel.dx(k), y = cy + wheel.dy(k);
+        ring_[k] = surface_.at(grids, x, y);
+        // Not measured here (a measurement, even one too poor to prove, is kept).
+        if (!ring_[k].known && fallback_) ring_[k] = fallback_->at(x, y);
+      }
       ring_ready_ = true;
     }
     return ring_;
@@ -122,6 +142,7 @@ class PlaneCell {
 
  private:
   const PlaneSurface& surface_;
+  const RingFallback* fallback_;
   mutable bool ring_ready_ = false;
   mutable RingSample ring_[WheelRing::kSamples];
 };
@@ -156,7 +177,7 @@ class PlaneFamilyClassifier final : public HazardClassifier {
           record(row, col, kReasonNoHeight);
           continue;
         }
-        PlaneCell cell(g, surface_, ring_, row, col, z);
+        PlaneCell cell(g, surface_, ring_, row, col, z, fallback_);
         Evidence ev(p.k_sigma);
         if (double(g.count.at(row, col)) < p.min_points) {
           ev.missing(kReasonFewPoints);

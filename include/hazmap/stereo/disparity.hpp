@@ -21,6 +21,7 @@
 #include "hazmap/core/types.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
 #include "hazmap/stereo/stereo_config.hpp"
+#include "hazmap/stereo/texture_gate.hpp"
 
 namespace hazmap {
 
@@ -84,6 +85,10 @@ class DisparityMatcher {
   /// cannot be matched in that row.
   std::vector<int> search_end_by_row(int rows) const;
 
+  /// The left image's noise estimate of the last compute() [DN] (image_noise_dn), 0
+  /// before; computed only with stereo.min_texture_snr > 0.
+  double image_noise_dn() const { return noise_dn_; }
+
  private:
   cv::Ptr<cv::StereoMatcher> matcher_;
   std::unique_ptr<BandMatcher> band_;
@@ -91,6 +96,8 @@ class DisparityMatcher {
   int min_disparity_ = 0;
   int searched_min_ = 0;
   int searched_num_ = 0;
+  TextureGate gate_;  ///< stereo.min_texture_snr, over the matcher's window
+  double noise_dn_ = 0.0;
 };
 
 }  // namespace hazmap

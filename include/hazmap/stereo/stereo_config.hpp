@@ -70,6 +70,9 @@ struct StereoConfig {
   int min_disparity = 0;
   int uniqueness_ratio = 10;
   int texture_threshold = 10;       ///< StereoBM only
+  /// Any matcher: drop a disparity whose window's contrast above the image's noise is
+  /// below this times the noise (texture_gate.hpp); 0 off.
+  double min_texture_snr = 0.0;
   int pre_filter_cap = 31;
   int speckle_window = 100;         ///< 0 disables the speckle filter
   int speckle_range = 2;            ///< pixels (scaled x16 for StereoBM, SPEC 3)
