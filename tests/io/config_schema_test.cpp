@@ -40,8 +40,14 @@ std::string config_error(const std::vector<std::string>& sets) {
 }
 
 // --- how many members the structs have: aggregate initialisation with N of anything ---
+template <class T>
+struct IsOptional : std::false_type {};
+template <class T>
+struct IsOptional<std::optional<T>> : std::true_type {};
 struct AnyValue {
-  template <class T>
+  // Not to std::optional itself: an optional member is built from the value it holds
+  // (the two conversions would otherwise compete, -Wconversion).
+  template <class T, std::enable_if_t<!IsOptional<T>::value, int> = 0>
   operator T() const;  // declared only: used in unevaluated context
 };
 template <class T, class = void, class... A>
@@ -97,11 +103,6 @@ std::string number_text(double v, bool integer) {
   else std::snprintf(text, sizeof text, "%.17g", v);
   return text;
 }
-
-template <class T>
-struct IsOptional : std::false_type {};
-template <class T>
-struct IsOptional<std::optional<T>> : std::true_type {};
 
 template <class Owner>
 std::vector<std::string> candidates(const ConfigKey<Owner>& key, Owner& defaults) {
