@@ -157,8 +157,7 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     band_->compute(left, right, disparity_x16);
   else
     matcher_->compute(left, right, disparity_x16);
-  if (gate_.enabled())
-    noise_dn_ = gate_.apply(left, disparity_x16, static_cast<short>(invalid_below()));
+  if (gate_.enabled()) gate_.apply(left, disparity_x16, static_cast<short>(invalid_below()));
 }
 
 }  // namespace hazmap

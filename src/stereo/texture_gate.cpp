@@ -34,8 +34,8 @@ TextureGate::TextureGate(double min_snr, cv::Size window) : min_snr_(min_snr), w
 double TextureGate::apply(const cv::Mat& left, cv::Mat& disparity_x16, short invalid) {
   if (left.type() != CV_8UC1 || disparity_x16.type() != CV_16SC1 || left.size() != disparity_x16.size())
     throw Error("texture gate: expected an 8-bit grey image and a CV_16S disparity of its size");
+  if (!enabled()) return 0.0;
   const double noise = image_noise_dn(left);
-  if (!enabled()) return noise;
   cv::integral(left, sum_, sqsum_, CV_64F, CV_64F);
   const double limit = noise * noise * (1.0 + min_snr_ * min_snr_);
   const int rows = left.rows, cols = left.cols;

@@ -85,10 +85,6 @@ class DisparityMatcher {
   /// cannot be matched in that row.
   std::vector<int> search_end_by_row(int rows) const;
 
-  /// The left image's noise estimate of the last compute() [DN] (image_noise_dn), 0
-  /// before; computed only with stereo.min_texture_snr > 0.
-  double image_noise_dn() const { return noise_dn_; }
-
  private:
   cv::Ptr<cv::StereoMatcher> matcher_;
   std::unique_ptr<BandMatcher> band_;
@@ -97,7 +93,6 @@ class DisparityMatcher {
   int searched_min_ = 0;
   int searched_num_ = 0;
   TextureGate gate_;  ///< stereo.min_texture_snr, over the matcher's window
-  double noise_dn_ = 0.0;
 };
 
 }  // namespace hazmap

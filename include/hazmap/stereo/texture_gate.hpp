@@ -28,7 +28,8 @@ class TextureGate {
   bool enabled() const { return min_snr_ > 0; }
 
   /// Sets to `invalid` every disparity of `disparity_x16` (CV_16S, the size of `left`)
-  /// whose window in `left` (8-bit grey) is too flat. Returns the noise estimate used.
+  /// whose window in `left` (8-bit grey) is too flat. Returns the noise estimate used
+  /// (0 when off: nothing is estimated).
   /// Buffers are kept: no allocation once the image size is fixed.
   double apply(const cv::Mat& left, cv::Mat& disparity_x16, short invalid);
 
