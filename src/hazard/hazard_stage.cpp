@@ -34,6 +34,19 @@ GridRect image_rect(const CellRange& r, CellIndex scale, CellIndex x0, CellIndex
           fit(r.x1 * scale - x0)};
 }
 
+/// How many cells of a `fine_m` grid one cell of a `coarse_m` grid spans along a side:
+/// 0 unless a whole number >= 1 (then their cell borders agree: global index x scale).
+CellIndex whole_scale(double coarse_m, double fine_m) {
+  const double ratio = coarse_m / fine_m;
+  const auto scale = static_cast<CellIndex>(std::llround(ratio));
+  return scale >= 1 && std::abs(ratio - double(scale)) <= 1e-6 ? scale : 0;
+}
+
+/// The global cells a rolling grid's window covers.
+CellRange window_of(const RollingGrid& g) {
+  return {g.origin_x(), g.origin_x() + g.size(), g.origin_y(), g.origin_y() + g.size()};
+}
+
 /// Global cells of the image rectangle `g` on an n-high grid whose first cell is (x0, y0).
 CellRange global_range(const GridRect& g, CellIndex x0, CellIndex y0, int n) {
   if (g.empty()) return {};
@@ -138,7 +151,7 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   const int n = g.size();
   LayerState& s = layer_state_[i];
   LayerView& v = views_[i];
-  const CellRange window{g.origin_x(), g.origin_x() + n, g.origin_y(), g.origin_y() + n};
+  const CellRange window = window_of(g);
   const Placement::Move move = s.at.move_to(window.x0, window.y0, n);
   const bool placed = move.placed;
   const CellRange& old_window = move.old_window;
@@ -148,13 +161,10 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   // The coarser layer this one's rings read (coarse_ring_fill), run before this one: its
   // cells map onto whole blocks of this layer's, else this layer is classified whole.
   const bool fill = i + 1 < map.size() && fills_[i] != nullptr;
-  const auto coarse_scale = fill ? static_cast<CellIndex>(std::llround(
-                                       map.layer(i + 1).grid().resolution_m() / g.resolution_m()))
-                                 : CellIndex{1};
-  const bool coarse_whole =
-      fill && (layer_state_[i + 1].whole || !layer_state_[i + 1].moved.placed ||
-               std::abs(map.layer(i + 1).grid().resolution_m() / g.resolution_m() -
-                        double(coarse_scale)) > 1e-6);
+  const CellIndex coarse_scale =
+      fill ? whole_scale(map.layer(i + 1).grid().resolution_m(), g.resolution_m()) : 0;
+  const bool coarse_whole = fill && (layer_state_[i + 1].whole ||
+                                     !layer_state_[i + 1].moved.placed || coarse_scale == 0);
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
@@ -196,9 +206,7 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
     if (fill) {  // and near what the coarser layer's rings read changed: cells and strips
       const Placement::Move& cm = layer_state_[i + 1].moved;
-      const RollingGrid& cg = map.layer(i + 1).grid();
-      const CellRange coarse{cg.origin_x(), cg.origin_x() + cg.size(), cg.origin_y(),
-                             cg.origin_y() + cg.size()};
+      const CellRange coarse = window_of(map.layer(i + 1).grid());
       scratch_.add(image_rect(map.changed_cells(i + 1), coarse_scale, window.x0, window.y0, n));
       for (int k = 0, m = difference(coarse, cm.old_window, parts); k < m; ++k)
         scratch_.add(image_rect(parts[k], coarse_scale, window.x0, window.y0, n));
@@ -216,9 +224,8 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   // strips that entered matter only where their hazard is not unknown: a change.
   // Each of the layer's cells covers scale x scale fused cells (config validation makes
   // resolutions whole multiples; otherwise the fused map is redone whole).
-  const double ratio = g.resolution_m() / map.layer(0).grid().resolution_m();
-  const auto scale = static_cast<CellIndex>(std::llround(ratio));
-  if (scale < 1 || std::abs(ratio - double(scale)) > 1e-6) return false;
+  const CellIndex scale = whole_scale(g.resolution_m(), map.layer(0).grid().resolution_m());
+  if (scale == 0) return false;
   const GridRect changed = changed_bounds(v.hazard, before_, s.classified);
   fused_region_.add(image_rect(global_range(changed, window.x0, window.y0, n), scale, fused_x0,
                                fused_y0, cells)
