@@ -75,7 +75,7 @@ void SeenMap::add_depth(const cv::Mat& depth, const DepthCamera& camera, const P
       }
       if (gate) {
         const double d = camera.fx * gate->baseline_m / z;
-        if (u < gate->blank_columns || u - d < 0.0) continue;
+        if (u < gate->blank_columns || u - d < gate->edge_margin_px) continue;
         if (gated && lateral_var_W(u, v, z) > max_var) continue;
       }
       const Eigen::Vector3d p_W = R * Eigen::Vector3d(x * z, y * z, z) + t;

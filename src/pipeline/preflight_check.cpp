@@ -218,18 +218,28 @@ void add_search_fit_problems(PreflightReport& r, const Config& config, const cv:
                              const PreflightLimits& limits) {
   const int blank = r.search_min_disparity + r.search_num_disparities;
   if (region.width <= 0) return;
-  r.blanked_share = std::clamp(static_cast<double>(blank - region.x) / region.width, 0.0, 1.0);
-  if (r.blanked_share > limits.max_blanked_share)
+  const double span = std::clamp(static_cast<double>(blank - region.x) / region.width, 0.0, 1.0);
+  r.blanked_share = r.matches_left_border ? 0.0 : span;
+  if (span <= limits.max_blanked_share) return;
+  const std::string fix = "lower stereo.num_disparities (the config may be for larger images" +
+                          std::string(config.stereo.num_disparities >= r.calibration.image.width / 2
+                                          ? ", e.g. full-resolution ones)"
+                                          : ")");
+  if (r.matches_left_border)
+    r.problems.push_back(fmt("the disparity search [%.0f, %.0f) px spans ", r.search_min_disparity,
+                             blank) +
+                         fmt("%.0f %% of the %.0f px wide image (> %.0f %%): every pixel is "
+                             "searched that far, at that cost, and far nearer than the ground: ",
+                             100 * span, r.calibration.image.width, 100 * limits.max_blanked_share) +
+                         fix);
+  else
     r.problems.push_back(fmt("the disparity search [%.0f, %.0f) px leaves the leftmost %.0f px, "
                              "",
                              r.search_min_disparity, blank, blank) +
                          fmt("%.0f %% of the %.0f px wide image, without disparity (> %.0f %%): ",
                              100 * r.blanked_share, r.calibration.image.width,
                              100 * limits.max_blanked_share) +
-                         "lower stereo.num_disparities (the config may be for larger images" +
-                         (config.stereo.num_disparities >= r.calibration.image.width / 2
-                              ? ", e.g. full-resolution ones)"
-                              : ")"));
+                         fix);
 }
 
 /// The body frame against the ground, where the config takes z_B = 0 as the ground under
@@ -412,6 +422,8 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
     }
   }
   c.row_offset = summarise_row_offsets(row_offsets, front, config);
+  report.matches_left_border =
+      config.stereo.matcher == StereoMatcher::c2f || config.stereo.match_left_border;
   report.search_min_disparity = front.matcher().min_disparity();
   report.search_num_disparities = front.matcher().num_disparities();
   if (!dv.empty()) {
@@ -442,10 +454,12 @@ std::string format_report(const PreflightReport& r) {
   else
     s += "rectification: no chessboard in view, row error not measured\n";
   s += format_row_offset(c.row_offset);
-  s += fmt("disparity search: [%.0f, %.0f) px, no disparity in the leftmost %.0f %% of the "
-           "image; z_min %.2f m\n",
-           r.search_min_disparity, r.search_min_disparity + r.search_num_disparities,
-           100 * r.blanked_share, r.z_min_m);
+  s += fmt("disparity search: [%.0f, %.0f) px, ", r.search_min_disparity,
+           r.search_min_disparity + r.search_num_disparities) +
+       (r.matches_left_border
+            ? std::string("the leftmost columns matched too (c2f or stereo.match_left_border)")
+            : fmt("no disparity in the leftmost %.0f %% of the image", 100 * r.blanked_share)) +
+       fmt("; z_min %.2f m\n", r.z_min_m);
   s += "frame         valid  points  below   ground  tilt W  tilt B  cam h   body h  "
        "near ground (m, px)  near pt  in layer windows\n";
   for (const FrameCheck& f : r.frames) {

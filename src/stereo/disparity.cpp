@@ -79,7 +79,8 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c)
       min_disparity_(c.min_disparity),
       searched_min_(c.min_disparity),
       searched_num_(c.num_disparities),
-      gate_(c.min_texture_snr, matcher_window(c)) {
+      gate_(c.min_texture_snr, matcher_window(c)), window_(matcher_window(c)) {
+  if (c.match_left_border) left_pad_ = c.min_disparity + c.num_disparities;
   if (c.search != DisparitySearch::full)
     throw Error("config: key 'stereo.search': '" + std::string(enum_name(c.search)) +
                 "' needs the camera geometry; this matcher only does a full search");
@@ -105,7 +106,8 @@ void check_against_image(const StereoConfig& c, cv::Size image) {
 DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& geometry,
                                    const Pose3d& T_B_Cr, cv::Size image_size)
     : min_disparity_(c.min_disparity), searched_min_(c.min_disparity),
-      searched_num_(c.num_disparities), gate_(c.min_texture_snr, matcher_window(c)) {
+      searched_num_(c.num_disparities), gate_(c.min_texture_snr, matcher_window(c)),
+      window_(matcher_window(c)) {
   check_against_image(c, image_size);
   if (c.matcher == StereoMatcher::c2f) {
     if (c.search != DisparitySearch::full)
@@ -117,6 +119,7 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& 
     searched_num_ = end - c.min_disparity;
     return;
   }
+  if (c.match_left_border) left_pad_ = c.min_disparity + c.num_disparities;
   if (c.search == DisparitySearch::full) {
     matcher_ = create_stereo_matcher(c, c.min_disparity, c.num_disparities, true);
     return;
@@ -126,7 +129,9 @@ DisparityMatcher::DisparityMatcher(const StereoConfig& c, const StereoGeometry& 
     throw Error("config: key 'stereo.search': ground_band leaves no disparity to search "
                 "(image too narrow or stereo.min_disparity too large)");
   const GroundBand band(geometry, T_B_Cr, TerrainEnvelope::from(c), cap);
-  band_ = std::make_unique<BandMatcher>(c, band, image_size);
+  if (c.match_left_border) left_pad_ = cap;
+  band_ = std::make_unique<BandMatcher>(
+      c, band, cv::Size(image_size.width + left_pad_, image_size.height));
   searched_min_ = band_->min_searched();
   searched_num_ = std::max(16, band_->end_searched() - band_->min_searched());
 }
@@ -146,17 +151,53 @@ DisparityMatcher::~DisparityMatcher() = default;
 DisparityMatcher::DisparityMatcher(DisparityMatcher&&) noexcept = default;
 DisparityMatcher& DisparityMatcher::operator=(DisparityMatcher&&) noexcept = default;
 
+void DisparityMatcher::drop_matches_into_padding(cv::Mat& disparity_x16) const {
+  // A left pixel whose true match lies within a window of the right image's edge cannot be
+  // matched: its window's partner reaches the zeros, and the matcher settles on a smaller
+  // disparity, a point too far away (on the unseen ramps 35 % of the pixels within 5 px
+  // of that edge, 0.01 % elsewhere). Its true disparity is unknown, but along a row the
+  // surface's disparity is near its neighbours': column x keeps a disparity only when no
+  // column from x up to a window past the padded band has a disparity that would put
+  // the right window closer to the edge than one window width (a whole window to spare).
+  const int width = window_.width;
+  const short invalid = static_cast<short>(16 * (min_disparity_ - 1));
+  const int last = std::min(left_pad_ + width, disparity_x16.cols);
+  for (int r = 0; r < disparity_x16.rows; ++r) {
+    auto* row = disparity_x16.ptr<short>(r);
+    int nearest = 0;  // the largest valid disparity x16 seen from `last` down to x
+    for (int x = last - 1; x >= 0; --x) {
+      nearest = std::max(nearest, static_cast<int>(row[x]));
+      if (x >= left_pad_) continue;
+      if (row[x] > invalid && nearest > 16 * (x - width)) row[x] = invalid;
+    }
+  }
+}
+
 void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1)
     throw Error("disparity: expected 8-bit grey rectified images");
   if (left.size() != right.size())
     throw Error("disparity: left and right images differ in size");
-  if (c2f_)
+  if (c2f_) {
     c2f_->compute(left, right, disparity_x16);
-  else if (band_)
+  } else if (left_pad_ > 0) {
+    // OpenCV blanks every column whose full range would leave the right image. Zeros on
+    // the left of both images let those columns search what the right image holds; a
+    // window over the zeros matches nothing real, and the left-right check and
+    // uniqueness reject what has no match.
+    cv::copyMakeBorder(left, padded_left_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
+    cv::copyMakeBorder(right, padded_right_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
+    if (band_)
+      band_->compute(padded_left_, padded_right_, padded_disparity_);
+    else
+      matcher_->compute(padded_left_, padded_right_, padded_disparity_);
+    padded_disparity_.colRange(left_pad_, padded_disparity_.cols).copyTo(disparity_x16);
+    drop_matches_into_padding(disparity_x16);
+  } else if (band_) {
     band_->compute(left, right, disparity_x16);
-  else
+  } else {
     matcher_->compute(left, right, disparity_x16);
+  }
   if (gate_.enabled()) gate_.apply(left, disparity_x16, static_cast<short>(invalid_below()));
 }
 

@@ -277,12 +277,12 @@ TEST(OwnRover, NoPointEndsNonZeroNamingTheSetting) {
   };
   const NoPoints cases[] = {
       {"stereo.z_max=0.3",
-       "no frame gave a point (3 frames, 9216 pixels): no disparity 35.5 %, beyond stereo.z_max "
-       "64.5 %, nearer than stereo.z_min 0.0 %, unsupported 0.0 %, below the ground 0.0 %, "
+       "no frame gave a point (3 frames, 9216 pixels): no disparity 25.5 %, beyond stereo.z_max "
+       "74.5 %, nearer than stereo.z_min 0.0 %, unsupported 0.0 %, below the ground 0.0 %, "
        "occluded 0.0 %; most likely wrong: stereo.z_max, or T if it is not in metres"},
       {"stereo.z_min=2",
-       "no frame gave a point (3 frames, 9216 pixels): no disparity 35.5 %, beyond stereo.z_max "
-       "0.0 %, nearer than stereo.z_min 64.5 %, unsupported 0.0 %, below the ground 0.0 %, "
+       "no frame gave a point (3 frames, 9216 pixels): no disparity 25.5 %, beyond stereo.z_max "
+       "0.0 %, nearer than stereo.z_min 74.5 %, unsupported 0.0 %, below the ground 0.0 %, "
        "occluded 0.0 %; most likely wrong: stereo.z_min"},
   };
   for (const NoPoints& n : cases) {
@@ -393,18 +393,31 @@ TEST(OwnRoverCheck, FullResolutionSearchOnSmallImagesIsAProblem) {
   o.max_frames = 1;
   const PreflightReport r =
       preflight_check(load_config(testing::source_dir() / "config/cadre_full_res.yaml"), seq, o);
-  EXPECT_NEAR(r.blanked_share, 0.5, 0.01);  // 320 of 640 columns
+  EXPECT_EQ(r.blanked_share, 0.0);  // stereo.match_left_border: no band is blank
   bool found = false;
   for (const std::string& p : r.problems)
+    found = found || p.rfind("the disparity search [0, 320) px spans 50 % of the 640 px wide "
+                             "image (> 30 %): every pixel is searched that far, at that cost, "
+                             "and far nearer than the ground: lower stereo.num_disparities (the "
+                             "config may be for larger images, e.g. full-resolution ones)", 0) == 0;
+  EXPECT_TRUE(found) << format_report(r);
+  // OpenCV's blank band: 320 of 640 columns without disparity.
+  const PreflightReport blank = preflight_check(
+      load_config(testing::source_dir() / "config/cadre_full_res.yaml",
+                  {"stereo.match_left_border=false"}),
+      seq, o);
+  EXPECT_NEAR(blank.blanked_share, 0.5, 0.01);
+  found = false;
+  for (const std::string& p : blank.problems)
     found = found || p.rfind("the disparity search [0, 320) px leaves the leftmost 320 px, 50 % of "
                              "the 640 px wide image, without disparity (> 30 %): lower "
                              "stereo.num_disparities (the config may be for larger images, e.g. "
                              "full-resolution ones)", 0) == 0;
-  EXPECT_TRUE(found) << format_report(r);
+  EXPECT_TRUE(found) << format_report(blank);
   // The sample's own config: a quarter of the width, as designed, and OK.
   const PreflightReport ok =
       preflight_check(load_config(testing::source_dir() / "config/default.yaml"), seq, o);
-  EXPECT_NEAR(ok.blanked_share, 0.25, 0.01);
+  EXPECT_EQ(ok.blanked_share, 0.0);
   EXPECT_TRUE(ok.problems.empty()) << format_report(ok);
 }
 
@@ -414,7 +427,8 @@ TEST(OwnRoverCheck, RoverConfigOnEurocNamesTheBodyFrame) {
   const CommandResult r = testing::run_command(
       std::string(HAZMAP_CLI) + " check --count 2 --config " +
       (testing::source_dir() / "config/default.yaml").string() + " --sequence " + dir.string() +
-      " --poses " + (dir / "poses_leftcam_gt.csv").string() + " --pose-frame left_camera 2>&1");
+      " --poses " + (dir / "poses_leftcam_gt.csv").string() +
+      " --pose-frame left_camera --set map.layers.0.size=128 2>&1");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(r.output.find("verdict: OK"), std::string::npos) << r.output;
   for (const char* line :

@@ -25,6 +25,7 @@ constexpr double kScale = 0.3;
 Config test_config() {
   Config c = load_config(testing::source_dir() / "config/default.yaml");
   c.stereo.num_disparities = 96;  // near ground at 0.3 scale: d up to 92 px
+  c.map.layers[0].size = 128;      // 1.28 m: the near ground these tests' bounds are for
   return c;
 }
 

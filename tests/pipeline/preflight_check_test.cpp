@@ -122,8 +122,8 @@ TEST_F(FlatScene, FlagsATiltedPoseConvention) {
 
 TEST_F(FlatScene, FlagsALayerNoPointReachesAndAShortSearch) {
   const Sequence seq = load_sequence(dir_->path());
-  // Points only beyond 1.5 m deep: the 1.28 m window around the body gets none.
-  PreflightReport r = preflight_check(config({"stereo.z_min=1.5"}), seq, {});
+  // Points only beyond 1.5 m deep: a 1.28 m window around the body gets none.
+  PreflightReport r = preflight_check(config({"stereo.z_min=1.5", "map.layers.0.size=128"}), seq, {});
   for (const FrameCheck& f : r.frames) {
     EXPECT_EQ(f.layer_share[0], 0.0);
     EXPECT_GT(f.nearest_point_distance_m, 1.0);

@@ -344,7 +344,8 @@ class Evaluate(unittest.TestCase):
             summary = hazmap.simulate(seq, scenario="rocks", frames=2, scale=0.4, ground_truth=True)
             self.assertEqual((summary["frames"], summary["width_px"]), (2, 640))
             subprocess.run([CLI, "run", "--config", DEFAULT_CONFIG, "--sequence", seq, "--out",
-                            run, "--set", "output.png=false", "--quiet"], check=True)
+                            run, "--set", "output.png=false", "--set", "map.layers.0.size=128",
+                            "--quiet"], check=True)
             hazmap.set_log_level("warn")
             metrics = hazmap.evaluate(run, seq, write_report=False, near_radius_m=1.0)
             self.assertEqual(metrics["frames"], ["000000", "000001"])

@@ -135,8 +135,9 @@ class BandEqualsFullSearch : public ::testing::Test {
 sim::StereoRig* BandEqualsFullSearch::rig_ = nullptr;
 RenderedPair* BandEqualsFullSearch::pair_ = nullptr;
 
-// Without the two image-wide post-checks (speckle filter, left-right check) StereoBM
-// decides each pixel from its own block and candidates alone, so a pixel whose
+// Without the image-wide post-checks (speckle filter, left-right check, and the left
+// border's row-wide check, stereo.match_left_border, whose reach follows each search's
+// padding) StereoBM decides each pixel from its own block and candidates alone, so a pixel whose
 // full-search winner lies strictly inside the band must come out bit for bit the same:
 // tolerance 0. (Pixels whose full-search winner is a band end are not compared: in the
 // band it has no neighbour for the sub-pixel fit and is invalid by design.)
@@ -144,6 +145,7 @@ TEST_F(BandEqualsFullSearch, ExactlyWithoutImageWideChecks) {
   StereoConfig s = tight_band(flight_stereo());
   s.speckle_window = 0;
   s.disp12_max_diff = -1;
+  s.match_left_border = false;
   const Comparison c = compare(s);
   std::cout << "no speckle / LR check: " << c.strips << " strips (" << c.strips_above_zero
             << " above d = 0), " << c.inside << " of " << c.valid_full

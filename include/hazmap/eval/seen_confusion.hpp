@@ -46,9 +46,11 @@ struct DepthCamera {
 
 /// Seen by the stereo pair within the layers' lateral gate (issue 34: what the sensor
 /// could give a vouching layer at best): a depth pixel counts only if its point is in the
-/// right image too (u - d >= 0, d = f B / Z at the true depth), outside the columns the
-/// block matchers leave blank (u >= `blank_columns`: min_disparity + num_disparities for
-/// bm and sgbm), and its stereo point's lateral standard deviation in W (largest of its
+/// right image too (u - d >= `edge_margin_px`, d = f B / Z at the true depth: 0, or the
+/// block size for bm and sgbm with stereo.match_left_border, which keep a match only with
+/// a window to spare), outside the columns the block matchers leave blank (u >=
+/// `blank_columns`: min_disparity + num_disparities for bm and sgbm without
+/// match_left_border), and its stereo point's lateral standard deviation in W (largest of its
 /// xy covariance, SPEC 4's sensor model) is within `max_std_m`: the gate of the most
 /// permissive vouching layer (gate_std_m), beyond which no vouching layer takes it.
 struct LateralGate {
@@ -57,6 +59,7 @@ struct LateralGate {
   double pointing_px = 0.5, matching_px = 0.25;
   double max_std_m = 0.0;  ///< <= 0 or infinite: no gate
   int blank_columns = 0;
+  int edge_margin_px = 0;
 };
 
 class SeenMap {

@@ -110,6 +110,9 @@ struct PreflightReport {
   int search_num_disparities = 0;
   double z_min_m = 0.0;
   double blanked_share = 0.0;     ///< of the matched region's width, left blank by the search
+  /// The matcher searches the leftmost columns too (c2f, or stereo.match_left_border):
+  /// no band is blank by construction, but the search's span still costs time.
+  bool matches_left_border = false;
   std::vector<FrameCheck> frames;
   std::vector<std::string> problems;  ///< one line each; empty: the verdict is OK
   std::vector<std::string> warnings;  ///< doubtful but possible (check_rig_geometry's)

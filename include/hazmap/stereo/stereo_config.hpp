@@ -73,6 +73,9 @@ struct StereoConfig {
   /// Any matcher: drop a disparity whose window's contrast above the image's noise is
   /// below this times the noise (texture_gate.hpp); 0 off.
   double min_texture_snr = 0.0;
+  /// bm / sgbm: also match the left image's first min_disparity + num_disparities
+  /// columns, which OpenCV leaves blank, by padding both images on the left.
+  bool match_left_border = true;
   int pre_filter_cap = 31;
   int speckle_window = 100;         ///< 0 disables the speckle filter
   int speckle_range = 2;            ///< pixels (scaled x16 for StereoBM, SPEC 3)
