@@ -154,10 +154,10 @@ TEST(MiddleburyKnobs, LeftRightCheckAndSpeckleFilterRemoveBadMatches) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Middlebury,
-                         ::testing::Values(SceneCase{"aloe", "bm", 0.028, 0.643},
-                                           SceneCase{"aloe", "sgbm", 0.045, 0.718},
-                                           SceneCase{"teddyH", "bm", 0.064, 0.723},
-                                           SceneCase{"teddyH", "sgbm", 0.069, 0.804}));
+                         ::testing::Values(SceneCase{"aloe", "bm", 0.026, 0.758},
+                                           SceneCase{"aloe", "sgbm", 0.041, 0.834},
+                                           SceneCase{"teddyH", "bm", 0.061, 0.768},
+                                           SceneCase{"teddyH", "sgbm", 0.068, 0.846}));
 
 }  // namespace
 }  // namespace hazmap
