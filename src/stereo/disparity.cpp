@@ -182,9 +182,8 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     c2f_->compute(left, right, disparity_x16);
   } else if (left_pad_ > 0) {
     // OpenCV blanks every column whose full range would leave the right image. Zeros on
-    // the left of both images let those columns search what the right image holds; a
-    // window over the zeros matches nothing real, and the left-right check and
-    // uniqueness reject what has no match.
+    // the left of both images let those columns search what the right image holds; what
+    // could only have matched the zeros is dropped after the crop.
     cv::copyMakeBorder(left, padded_left_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
     cv::copyMakeBorder(right, padded_right_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
     if (band_)

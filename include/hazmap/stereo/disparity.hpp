@@ -86,6 +86,10 @@ class DisparityMatcher {
   std::vector<int> search_end_by_row(int rows) const;
 
  private:
+  /// stereo.match_left_border, after the crop: drops the band's disparities that leave
+  /// the right window less than a window from the right image's edge (row-wide rule).
+  void drop_matches_into_padding(cv::Mat& disparity_x16) const;
+
   cv::Ptr<cv::StereoMatcher> matcher_;
   std::unique_ptr<BandMatcher> band_;
   std::unique_ptr<C2fMatcher> c2f_;
@@ -93,8 +97,6 @@ class DisparityMatcher {
   int searched_min_ = 0;
   int searched_num_ = 0;
   TextureGate gate_;  ///< stereo.min_texture_snr, over the matcher's window
-  void drop_matches_into_padding(cv::Mat& disparity_x16) const;
-
   cv::Size window_;   ///< the matcher's window (block, or c2f's census window)
   int left_pad_ = 0;  ///< stereo.match_left_border: columns of zeros left of both images
   cv::Mat padded_left_, padded_right_, padded_disparity_;  ///< reused per frame
