@@ -180,22 +180,26 @@ void DisparityMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Ma
     throw Error("disparity: left and right images differ in size");
   if (c2f_) {
     c2f_->compute(left, right, disparity_x16);
-  } else if (left_pad_ > 0) {
+  } else {
     // OpenCV blanks every column whose full range would leave the right image. Zeros on
     // the left of both images let those columns search what the right image holds; what
     // could only have matched the zeros is dropped after the crop.
-    cv::copyMakeBorder(left, padded_left_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
-    cv::copyMakeBorder(right, padded_right_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
+    const bool pad = left_pad_ > 0;
+    if (pad) {
+      cv::copyMakeBorder(left, padded_left_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
+      cv::copyMakeBorder(right, padded_right_, 0, 0, left_pad_, 0, cv::BORDER_CONSTANT, 0);
+    }
+    const cv::Mat& l = pad ? padded_left_ : left;
+    const cv::Mat& r = pad ? padded_right_ : right;
+    cv::Mat& out = pad ? padded_disparity_ : disparity_x16;
     if (band_)
-      band_->compute(padded_left_, padded_right_, padded_disparity_);
+      band_->compute(l, r, out);
     else
-      matcher_->compute(padded_left_, padded_right_, padded_disparity_);
-    padded_disparity_.colRange(left_pad_, padded_disparity_.cols).copyTo(disparity_x16);
-    drop_matches_into_padding(disparity_x16);
-  } else if (band_) {
-    band_->compute(left, right, disparity_x16);
-  } else {
-    matcher_->compute(left, right, disparity_x16);
+      matcher_->compute(l, r, out);
+    if (pad) {
+      padded_disparity_.colRange(left_pad_, padded_disparity_.cols).copyTo(disparity_x16);
+      drop_matches_into_padding(disparity_x16);
+    }
   }
   if (gate_.enabled()) gate_.apply(left, disparity_x16, static_cast<short>(invalid_below()));
 }
