@@ -106,7 +106,17 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
   for (size_t i = 0; i < views_.size(); ++i) {
     classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
     fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});
+    // views_ never grows: the classifier may keep a pointer to the mask.
+    if (params_.layers[i].partial_ring_proof == PartialRingProof::view_edge)
+      classifiers_[i]->set_view_mask(&views_[i].viewed);
   }
+  bands_.resize(views_.size());
+  for (size_t i = 0; i < views_.size(); ++i)
+    for (size_t j = i + 1; j < views_.size(); ++j) {
+      const LayerHazardParams& c = params_.layers[j];
+      bands_[i].add(&views_[j].map.height, &views_[j].map.variance, c.k_sigma,
+                    c.resolution_m * std::tan(c.max_slope_rad));
+    }
   // views_ never grows: the fallbacks may keep pointers to its grids.
   fills_.resize(views_.size());
   for (size_t i = 0; params.coarse_ring_fill && i + 1 < views_.size(); ++i)
@@ -117,7 +127,7 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
     }
 }
 
-void HazardStage::run(const LayerStack& map) {
+void HazardStage::run(const LayerStack& map, const SensorView* view) {
   const RollingGrid& finest = map.layer(0).grid();
   // The planner's maps are centred like the finest layer, which shares its cell borders:
   // their first cell, in the finest layer's global indices.
@@ -135,7 +145,7 @@ void HazardStage::run(const LayerStack& map) {
   bool whole = false;
   // Coarsest first: a finer layer's rings may read the coarser layer's fresh export.
   for (size_t i = map.size(); i-- > 0;)
-    if (!run_layer(map, i, fused_x0, fused_y0, cells)) whole = true;
+    if (!run_layer(map, i, fused_x0, fused_y0, cells, view)) whole = true;
   run_planner(whole, fused_x0, fused_y0, cells);
 }
 
@@ -145,7 +155,7 @@ void HazardStage::explain(std::size_t i, DenseGrid& reasons) const {
 }
 
 bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fused_x0,
-                            CellIndex fused_y0, int cells) {
+                            CellIndex fused_y0, int cells, const SensorView* view) {
   const Layer& layer = map.layer(i);
   const RollingGrid& g = layer.grid();
   const int n = g.size();
@@ -168,6 +178,27 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
+  }
+  // The view mask moves with the window (cells new to it: never looked at), then takes
+  // this frame's view; the cells it newly reached are re-classified below.
+  GridRect newly_viewed;
+  if (params_.layers[i].partial_ring_proof == PartialRingProof::view_edge) {
+    if (placed) {
+      v.viewed.shift(drow, dcol, 0.0f);
+      v.viewed.center_x_m = g.center_x_m();
+      v.viewed.center_y_m = g.center_y_m();
+    } else {
+      v.viewed.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
+    }
+    if (view) {
+      newly_viewed = mark_viewed(*view, v.viewed, &bands_[i]);
+    } else if (std::any_of(v.viewed.values.begin(), v.viewed.values.end(),
+                           [](float x) { return x < kWhollyViewed; })) {
+      // No camera (points from elsewhere): nothing is known to be outside the view, so
+      // every cell counts as looked at and only full rings prove.
+      std::fill(v.viewed.values.begin(), v.viewed.values.end(), kWhollyViewed);
+      newly_viewed = GridRect::full(n, n);
+    }
   }
 
   // Whole when the coarser layer this one's rings read was (rare: a jump, the first frame).
@@ -201,7 +232,9 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
     for (const GridRect& r : scratch_) layer.export_region(v.map, r);
     // Results read cells up to reach_cells() away, inside the window: near the cells
-    // above, and near the strips that left (a kernel or ring there now leaves the layer).
+    // above, near the strips that left (a kernel or ring there now leaves the layer), and
+    // near the cells the view newly reached (a ring sample there is no longer unseen).
+    scratch_.add(newly_viewed);
     for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
       scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
     if (fill) {  // and near what the coarser layer's rings read changed: cells and strips

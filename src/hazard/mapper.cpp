@@ -31,8 +31,8 @@ std::size_t Mapper::insert(const PointCloud& cloud, double robot_x_m, double rob
   return insert(assign_points(cloud), robot_x_m, robot_y_m, noise);
 }
 
-void Mapper::classify() {
-  hazards_.run(map_);
+void Mapper::classify(const SensorView* view) {
+  hazards_.run(map_, view);
   terrain_.clear();
   if (!hazards_.layers().empty()) {
     const LayerGrids& finest = hazards_.layers().front().map;

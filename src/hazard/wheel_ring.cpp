@@ -17,13 +17,25 @@ constexpr double kProofOnly = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
-WheelRing::WheelRing(double radius_m, double k_sigma, bool partial_proof)
+WheelRing::WheelRing(double radius_m, double k_sigma, PartialRingProof partial_proof)
     : radius_(radius_m), k_sigma_(k_sigma), partial_proof_(partial_proof) {
   for (int k = 0; k < kSamples; ++k) {
     dx_[k] = radius_m * std::cos(k * M_PI / 4.0);
     dy_[k] = radius_m * std::sin(k * M_PI / 4.0);
   }
   for (int n = 0; n <= kSamples; ++n) lowest_k_[n] = kernel_k_sigma(k_sigma, n);
+}
+
+bool WheelRing::may_prove_partial(const RingSample (&s)[kSamples]) const {
+  switch (partial_proof_) {
+    case PartialRingProof::off: return false;
+    case PartialRingProof::any: return true;
+    case PartialRingProof::view_edge:
+      for (int k = 0; k < kSamples; ++k)
+        if (!s[k].exact && !s[k].unseen) return false;
+      return true;
+  }
+  return false;
 }
 
 bool WheelRing::fit_partial(const RingSample (&s)[kSamples], PartialPlane* plane) const {
@@ -65,7 +77,7 @@ void WheelRing::slope_test(const RingSample (&s)[kSamples], double tan_max_slope
   for (int k = 0; k < kSamples; ++k) {
     if (!s[k].exact) {
       PartialPlane p;
-      if (partial_proof_ && fit_partial(s, &p))  // |g| has a standard deviation of at most sqrt(trace)
+      if (may_prove_partial(s) && fit_partial(s, &p))  // |g| has a standard deviation of at most sqrt(trace)
         ev.test(std::hypot(p.gx, p.gy), std::sqrt(p.var_gradient), tan_max_slope, true, kProofOnly);
       else
         ev.missing();
@@ -105,7 +117,7 @@ void WheelRing::step_test(double h_m, double var_h_m2, const RingSample (&s)[kSa
     return;
   }
   PartialPlane p;
-  if (partial_proof_ && fit_partial(s, &p))
+  if (may_prove_partial(s) && fit_partial(s, &p))
     ev.test(h_m - p.ground, std::sqrt(var_h_m2 + p.var_ground), h_min_m, true, kProofOnly);
   else
     ev.missing();

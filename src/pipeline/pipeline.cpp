@@ -54,6 +54,22 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
       mapper_(config, config.pose_uncertainty.enabled) {
   // The axis model's covariance has closed forms for all the map reads: skip the cloud.
   if (config.sensor.model == SensorModel::axis) front_.set_map_points_output(mapper_.weighting());
+  const Rectifier& rect = front_.rectifier();
+  view_.T_B_C = rectified_camera_in_body(calibration.T_B_C, rect.R1());
+  view_.focal_px = rect.geometry().focal_px;
+  view_.cx_px = rect.geometry().cx_px;
+  view_.cy_px = rect.geometry().cy_px;
+  view_.width_px = rect.image_size().width;
+  view_.height_px = rect.image_size().height;
+  // No disparity within half a matching window of the border, nor in the band OpenCV
+  // leaves blank on the left when it is not matched (stereo.match_left_border).
+  view_.edge_margin_px = (config.stereo.block_size + 1) / 2;
+  if (config.stereo.matcher != StereoMatcher::c2f && !config.stereo.match_left_border)
+    view_.blank_left_px = config.stereo.min_disparity + config.stereo.num_disparities;
+  view_.z_min_m = config.stereo.z_min_m;
+  view_.z_max_m = config.stereo.z_max_m;
+  view_.band_below_m = config.stereo.band_max_depth_m;
+  view_.band_above_m = config.stereo.band_max_height_m;
 }
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
@@ -80,7 +96,8 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
   report.gated = mapper_.gated();
 
   t = Clock::now();
-  mapper_.classify();
+  view_.T_W_B = T_W_B;
+  mapper_.classify(&view_);
   report.ms.hazard_ms = ms_since(t);
   return report;
 }

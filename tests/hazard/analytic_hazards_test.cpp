@@ -415,7 +415,7 @@ TEST(AnalyticHazards, OneCentimetreRingSampleInAHoleComesFromANeighbourAndAHalfR
   for (const Case& c : {Case{0.005, 1, T, T}, Case{0.015, 1, T, U}, Case{0.015, 3, T, U},
                         Case{0.015, 4, U, U}})
   for (const bool partial : {true, false}) {
-    config.hazard.partial_ring_proof = partial;
+    config.hazard.partial_ring_proof = partial ? PartialRingProof::any : PartialRingProof::off;
     const auto views = map_surface(config, [](double, double) { return 0.0; }, 0.6, 0.002, 0.0005,
                                    7, Visible(holes(c.half_width, c.wide)));
     int row = 0, col = 0;

@@ -93,7 +93,7 @@ TEST(UnknownReason, ExplainGivesBitsExactlyAtUnknownCellsAndChangesNoClass) {
 
 TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
   Config config = one_layer(RuleKind::kalman, 0.01);
-  config.hazard.partial_ring_proof = true;
+  config.hazard.partial_ring_proof = PartialRingProof::any;
   const double R = 0.15;  // the wheel ring's radius (default wheelbase 0.3 m)
   // 5 cm holes at ring samples 0-3 of cell (0.305, 0.105): samples 4-7 hold no opposite
   // pair, so the partial ring cannot prove the cell (wheel_ring.hpp).
@@ -118,7 +118,7 @@ TEST(UnknownReason, NamesTheRingTheKernelTheHeightAndTheMargin) {
   EXPECT_EQ(bits_at(one.reasons, 0.305, 0.105), 0u);
   // Without partial-ring proof (the default) the same ring is incomplete.
   Config full_rings = config;
-  full_rings.hazard.partial_ring_proof = false;
+  full_rings.hazard.partial_ring_proof = PartialRingProof::off;
   const Explained off = explain(full_rings, map_flat(full_rings, 0.003, 0.0005, [&](double x, double y) {
                                   return in_hole(x, y, 1);
                                 }));

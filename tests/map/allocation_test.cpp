@@ -91,7 +91,19 @@ void run(const std::string& insertion, bool pose) {
   Config config;
   config.map = map;
   config.rules = rules;
+  // The view mask of hazard.partial_ring_proof: view_edge, marked every frame.
+  config.hazard.partial_ring_proof = PartialRingProof::view_edge;
   const HazardParams params = resolve_hazard_params(config);
+  SensorView view;  // a camera 0.3 m up on the body, pitched 30 deg down, looking ahead
+  view.T_B_C.linear() << 0, -0.5, 0.866, -1, 0, 0, 0, -0.866, -0.5;
+  view.T_B_C.translation() = Eigen::Vector3d(0.1, 0.0, 0.3);
+  view.focal_px = 300;
+  view.cx_px = 319.5;
+  view.cy_px = 239.5;
+  view.width_px = 640;
+  view.height_px = 480;
+  view.z_min_m = 0.05;
+  view.z_max_m = 3.0;
   std::vector<std::unique_ptr<HazardClassifier>> classifiers;
   std::vector<HazardDiagnostics> diagnostics(stack.size());
   std::vector<DenseGrid> hazards(stack.size());
@@ -122,10 +134,11 @@ void run(const std::string& insertion, bool pose) {
     fusion.fuse(inputs, params.critical_height_m, fused_cells(params.fused_extent_m, 0.04), 0.04,
                 hazards[0].center_x_m, hazards[0].center_y_m, fused, clearance);
     fusion.footprint(fused, params.footprint_radius_m, footprint, distance);
-    whole.run(stack);
-    incremental.run(stack);
+    view.T_W_B.translation() = Eigen::Vector3d(0.1 * frame, 0.0, 0.0);
+    whole.run(stack, &view);
+    incremental.run(stack, &view);
     mapper.insert(cloud, 0.1 * frame, 0.0, PoseNoise{0.001, 0.001, 0.001, 0.001});
-    mapper.classify();
+    mapper.classify(&view);
   }
   EXPECT_EQ(g_news.load() - after_first, 0) << insertion << (pose ? " with pose uncertainty" : "");
   // The Kalman layer's consistency gate ran and dropped points (the terrain varies by

@@ -33,9 +33,20 @@ struct EnumNames<CcmWeighting> {
 
 /// hazard.roughness: the piecewise-constant kernel statistic (SPEC 8.1).
 enum class RoughnessStatistic { range, detrended };
+
 template <>
 struct EnumNames<RoughnessStatistic> {
   static constexpr const char* names[] = {"range", "detrended"};
+};
+
+/// When a wheel ring cut short proves from its exact samples' plane (WheelRing,
+/// hazard.partial_ring_proof): never; only when every missing sample lies where the
+/// stereo pair has never looked (view_edge: SensorView); or always. The YAML names keep
+/// the key's earlier boolean spelling.
+enum class PartialRingProof { off, view_edge, any };
+template <>
+struct EnumNames<PartialRingProof> {
+  static constexpr const char* names[] = {"false", "view_edge", "true"};
 };
 
 // A setting the user may leave to the program is a std::optional: empty is YAML's `auto`
@@ -118,11 +129,11 @@ struct HazardConfig {
   /// Fused map (issue 34): a finer layer's proof of traversability outweighs a coarser
   /// layer's hazard on the fine cell (HazardFusion::set_finer_proof); false: SPEC 8.4.
   bool finer_proof = false;
-  /// Wheel ring (issue 34): a ring cut by the edge of what was seen proves from its exact
-  /// samples' plane (WheelRing). Off by default: under low sun the missing part of a ring
-  /// is often the rock that hid it, and rim cells with ground-level heights were proven
-  /// (docs/hazards.md).
-  bool partial_ring_proof = false;
+  /// Wheel ring (issue 34): when a ring cut short proves from its exact samples' plane
+  /// (WheelRing). `any` is unsafe under low sun: the missing part of a ring is often the
+  /// rock that hid it, and rim cells with ground-level heights were proven; `view_edge`
+  /// excuses only samples the cameras never looked at (docs/hazards.md).
+  PartialRingProof partial_ring_proof = PartialRingProof::off;
   /// Wheel ring (issue 34): a sample this layer has not measured is taken from the next
   /// coarser layer's plane where that layer measured it (HazardStage, CoarseRingFill).
   bool coarse_ring_fill = false;

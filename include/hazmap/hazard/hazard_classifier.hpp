@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/hazard/wheel_ring.hpp"
 #include "hazmap/map/layer.hpp"
 
@@ -63,6 +64,11 @@ class HazardClassifier {
   /// fallback must outlive the classifier's use and read the same frame's map.
   void set_ring_fallback(const RingFallback* fallback) { fallback_ = fallback; }
 
+  /// The layer's view mask (mark_viewed: how much of each cell the stereo pair has
+  /// looked at), for hazard.partial_ring_proof: view_edge; null: every cell wholly viewed.
+  /// Must outlive the classifier's use.
+  void set_view_mask(const DenseGrid* viewed) { viewed_ = viewed; }
+
   /// A diagnostic pass (issue 34; `output.unknown_reasons`, for `hazmap evaluate`): a
   /// whole-layer classification of `grids` that writes into `reasons` (given the layer's
   /// geometry) the UnknownReason bits of each unknown cell, 0 at known cells. Separate
@@ -85,12 +91,21 @@ class HazardClassifier {
   WheelRing ring_;
   DenseGrid* reasons_ = nullptr;  ///< set during explain() only
   const RingFallback* fallback_ = nullptr;
+  const DenseGrid* viewed_ = nullptr;
 };
 
 /// The classifier of the layer's family, with the family's shipped list of tests.
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params);
 
 namespace detail {
+
+/// True when (row, col) lies in `viewed` (a layer's view mask, or null) and no view has
+/// covered it whole (sensor_view.hpp): a ring sample there that cannot prove is
+/// RingSample::unseen.
+inline bool outside_view(const DenseGrid* viewed, int row, int col) {
+  return viewed != nullptr && row >= 0 && col >= 0 && row < viewed->rows && col < viewed->cols &&
+         viewed->at(row, col) < kWhollyViewed;
+}
 
 /// The cell of the 3 x 3 block around (row, col), inside the grid, that `accept`s and
 /// lies nearest by `distance2(r, c)` (the first of equals in row-major order); false if

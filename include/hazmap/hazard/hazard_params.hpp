@@ -27,7 +27,7 @@ struct LayerHazardParams {
   double k_sigma = 3.0;
   double max_slope_rad = 0.349;
   double wheelbase_m = 0.30;
-  bool partial_ring_proof = false;  ///< hazard.partial_ring_proof (WheelRing)
+  PartialRingProof partial_ring_proof = PartialRingProof::off;  ///< hazard.partial_ring_proof
   /// Ring tests (vehicle slope, step above the ring; SPEC 8.2-8.3) apply to cells
   /// smaller than the wheelbase.
   bool ring_tests = true;

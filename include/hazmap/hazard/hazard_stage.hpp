@@ -17,6 +17,8 @@
 //    fused window gained; the footprint the cells where the fused map changed, and the
 //    strips the fused window gained or lost, grown by the footprint radius. The hazard
 //    distance stays a whole pass (HazardFusion::footprint).
+//  - with hazard.partial_ring_proof: view_edge a ring reads the layer's view mask: the
+//    cells the frame's view newly reached are re-classified, grown by the reach.
 //  - with hazard.coarse_ring_fill a layer's rings read the next coarser layer too: the
 //    coarser layer runs first, and the finer one also re-classifies, grown by its reach,
 //    the cells under the coarser layer's changed cells and window strips (whole when the
@@ -31,6 +33,7 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/map/layer_stack.hpp"
 
 namespace hazmap {
@@ -40,6 +43,9 @@ struct LayerView {
   LayerGrids map;                 ///< height, variance (+ plane grids for CCM layers)
   HazardDiagnostics diagnostics;  ///< the classifier's intermediate grids
   DenseGrid hazard;               ///< HazardClass values
+  /// 1 where the stereo pair has ever looked (SensorView), else 0; kept only with
+  /// hazard.partial_ring_proof: view_edge (empty otherwise).
+  DenseGrid viewed;
 };
 
 /// The maps a planner consumes (SPEC 8.4, 8.5), at the finest layer's resolution.
@@ -56,8 +62,9 @@ class HazardStage {
   HazardStage(const HazardParams& params, bool incremental);
 
   /// Classifies `map`'s layers as they stand after a frame's insertion, fuses them and
-  /// builds the footprint map.
-  void run(const LayerStack& map);
+  /// builds the footprint map. `view`: what the frame's stereo pair looked at, added to
+  /// each layer's view mask first (hazard.partial_ring_proof: view_edge); null: nothing.
+  void run(const LayerStack& map, const SensorView* view = nullptr);
 
   const std::vector<LayerView>& layers() const { return views_; }
   const PlannerMaps& planner_maps() const { return planner_; }
@@ -99,7 +106,7 @@ class HazardStage {
   /// Runs layer i; adds to fused_region_ what the fused map must redo because of it.
   /// Returns false when the fused map must be redone whole.
   bool run_layer(const LayerStack& map, std::size_t i, CellIndex fused_x0, CellIndex fused_y0,
-                 int cells);
+                 int cells, const SensorView* view);
   void run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0, int cells);
 
   HazardParams params_;
@@ -107,6 +114,8 @@ class HazardStage {
   std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
   /// Layer i's ring fallback on layer i + 1 (hazard.coarse_ring_fill), else null.
   std::vector<std::unique_ptr<CoarseRingFill>> fills_;
+  /// Layer i's terrain band for its view mask: the coarser layers' heights.
+  std::vector<TerrainBand> bands_;
   std::vector<FusionInput> fusion_inputs_;
   HazardFusion fusion_;
   std::vector<LayerView> views_;

@@ -22,9 +22,10 @@ class KernelCell {
  public:
   KernelCell(const LayerGrids& g, const HazardDiagnostics& d, const WheelRing& w, int r, int c,
              const int* ring_dr, const int* ring_dc, double tan_slope,
-             const RingFallback* fallback = nullptr)
+             const RingFallback* fallback = nullptr, const DenseGrid* viewed = nullptr)
       : grids(g), diag(d), wheel(w), row(r), col(c), z(g.height.at(r, c)),
-        ring_dr_(ring_dr), ring_dc_(ring_dc), tan_slope_(tan_slope), fallback_(fallback) {}
+        ring_dr_(ring_dr), ring_dc_(ring_dc), tan_slope_(tan_slope), fallback_(fallback),
+        viewed_(viewed) {}
 
   const LayerGrids& grids;
   const HazardDiagnostics& diag;
@@ -52,6 +53,7 @@ class KernelCell {
         ring_[k] = sample(r, c);
         if (!ring_[k].known && fallback_)
           ring_[k] = fallback_->at(grids.height.x_of_col(c), grids.height.y_of_row(r));
+        ring_[k].unseen = !ring_[k].exact && detail::outside_view(viewed_, r, c);
       }
       ring_ready_ = true;
     }
@@ -77,6 +79,7 @@ class KernelCell {
   const int* ring_dc_;
   double tan_slope_;
   const RingFallback* fallback_;
+  const DenseGrid* viewed_;
   mutable bool ring_ready_ = false;
   mutable RingSample ring_[WheelRing::kSamples];
 };
@@ -114,7 +117,7 @@ class KernelFamilyClassifier final : public HazardClassifier {
           record(row, col, kReasonNoHeight);
           continue;
         }
-        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope, fallback_);
+        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope, fallback_, viewed_);
         const float fill = diag.kernel_fill.at(row, col);
         cell.kernel_complete = !std::isnan(cell.z) && fill >= p.min_kernel_fill;
         const int observed = static_cast<int>(std::lround(double(fill) * kernel_cells_));

@@ -42,8 +42,9 @@ class Mapper {
 
   /// Classifies the layers as the last insert left them, fuses them and builds the
   /// footprint map (HazardStage::run); then points known_terrain() at the finest layer's
-  /// new grids.
-  void classify();
+  /// new grids. `view`: what the frame's cameras looked at (hazard.partial_ring_proof:
+  /// view_edge), null when the points came from elsewhere.
+  void classify(const SensorView* view = nullptr);
 
   const LayerStack& layers() const { return map_; }
   const HazardStage& hazards() const { return hazards_; }

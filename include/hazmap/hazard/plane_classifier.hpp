@@ -113,8 +113,9 @@ class PlaneSurface {
 class PlaneCell {
  public:
   PlaneCell(const LayerGrids& g, const PlaneSurface& s, const WheelRing& w, int r, int c, float z0,
-            const RingFallback* fallback = nullptr)
-      : grids(g), wheel(w), row(r), col(c), z(z0), surface_(s), fallback_(fallback) {}
+            const RingFallback* fallback = nullptr, const DenseGrid* viewed = nullptr)
+      : grids(g), wheel(w), row(r), col(c), z(z0), surface_(s), fallback_(fallback),
+        viewed_(viewed) {}
 
   const LayerGrids& grids;
   const WheelRing& wheel;
@@ -134,6 +135,9 @@ class PlaneCell {
         ring_[k] = surface_.at(grids, x, y);
         // Not measured here (a measurement, even one too poor to prove, is kept).
         if (!ring_[k].known && fallback_) ring_[k] = fallback_->at(x, y);
+        int r = -1, c = -1;
+        ring_[k].unseen = !ring_[k].exact && grids.height.cell_at(x, y, &r, &c) &&
+                          detail::outside_view(viewed_, r, c);
       }
       ring_ready_ = true;
     }
@@ -143,6 +147,7 @@ class PlaneCell {
  private:
   const PlaneSurface& surface_;
   const RingFallback* fallback_;
+  const DenseGrid* viewed_;
   mutable bool ring_ready_ = false;
   mutable RingSample ring_[WheelRing::kSamples];
 };
@@ -177,7 +182,7 @@ class PlaneFamilyClassifier final : public HazardClassifier {
           record(row, col, kReasonNoHeight);
           continue;
         }
-        PlaneCell cell(g, surface_, ring_, row, col, z, fallback_);
+        PlaneCell cell(g, surface_, ring_, row, col, z, fallback_, viewed_);
         Evidence ev(p.k_sigma);
         if (double(g.count.at(row, col)) < p.min_points) {
           ev.missing(kReasonFewPoints);

@@ -13,7 +13,12 @@
 // one opposite pair (the centre lies on the samples' hull, on that diameter) and a third
 // sample off it. A half ring qualifies. With less, the ring gives hazard evidence only.
 // A partial ring's plane only proves; its hazards come from that evidence (wheel_ring.cpp).
+// Which partial rings may prove (hazard.partial_ring_proof): with `view_edge` only those
+// whose every inexact sample lies where the stereo pair never looked at the whole cell
+// (RingSample::unseen, from SensorView). A hole inside the view (a shadow, ground a rock
+// hid, a face without texture) is where a rock may be, and keeps the ring from proving.
 
+#include "hazmap/core/core_config.hpp"
 #include "hazmap/hazard/evidence.hpp"
 
 namespace hazmap {
@@ -23,6 +28,9 @@ struct RingSample {
   double var_m2 = 0.0;
   bool known = false;  ///< a height with an honest variance: evidence for a hazard
   bool exact = false;  ///< known well enough to prove (a CCM sample on an evaluable plane)
+  /// Not exact, in a cell no frame's view covered whole (SensorView): the ring is cut by
+  /// the edge of what was looked at, not by a hole in it.
+  bool unseen = false;
 };
 
 class WheelRing {
@@ -31,9 +39,9 @@ class WheelRing {
   /// `k_sigma`: the classifier's k (Evidence), for which step_test's Bonferroni k of the
   /// lowest of n samples is tabulated once: computing it (a bisection over erfc) per
   /// partly observed cell cost most of a 1 cm layer's classification.
-  /// `partial_proof`: a partial ring that qualifies proves (hazard.partial_ring_proof);
-  /// false: it gives hazard evidence only, and the cell cannot be proven.
-  WheelRing(double radius_m, double k_sigma, bool partial_proof = true);
+  /// `partial_proof`: which partial rings that qualify prove (hazard.partial_ring_proof);
+  /// the others give hazard evidence only, and the cell cannot be proven.
+  WheelRing(double radius_m, double k_sigma, PartialRingProof partial_proof = PartialRingProof::any);
 
   double radius() const { return radius_; }
   double dx(int k) const { return dx_[k]; }
@@ -69,11 +77,13 @@ class WheelRing {
   /// False when the exact samples do not qualify (no exact opposite pair, or fewer than
   /// kMinProofSamples).
   bool fit_partial(const RingSample (&s)[kSamples], PartialPlane* plane) const;
+  /// The partial ring may prove: the mode allows it for these samples' missing ones.
+  bool may_prove_partial(const RingSample (&s)[kSamples]) const;
 
   double radius_;
   double dx_[kSamples], dy_[kSamples];
   double k_sigma_;
-  bool partial_proof_;
+  PartialRingProof partial_proof_;
   double lowest_k_[kSamples + 1];  ///< kernel_k_sigma(k_sigma_, n)
 };
 

@@ -55,7 +55,7 @@ template <class Owner>
 using KeyField =
     std::variant<std::monostate, int& (*)(Owner&), double& (*)(Owner&), bool& (*)(Owner&),
                  std::array<int, 4>& (*)(Owner&), RuleKind& (*)(Owner&), Insertion& (*)(Owner&),
-                 CcmWeighting& (*)(Owner&), RoughnessStatistic& (*)(Owner&),
+                 CcmWeighting& (*)(Owner&), RoughnessStatistic& (*)(Owner&), PartialRingProof& (*)(Owner&),
                  StereoMatcher& (*)(Owner&), SgbmMode& (*)(Owner&), PreFilterType& (*)(Owner&),
                  DisparitySearch& (*)(Owner&), SensorModel& (*)(Owner&), GridFormat& (*)(Owner&),
                  std::optional<double>& (*)(Owner&), std::optional<int>& (*)(Owner&)>;

@@ -77,6 +77,7 @@ class Pipeline {
   Config config_;
   StereoFrontEnd front_;
   Mapper mapper_;  ///< the map half: insertion, hazards, the terrain for the occlusion check
+  SensorView view_;  ///< what the cameras look at; the body pose set per frame
 };
 
 }  // namespace hazmap
