@@ -191,7 +191,7 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       v.viewed.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
     }
     if (view) {
-      newly_viewed = mark_viewed(*view, v.viewed, &bands_[i]);
+      newly_viewed = marker_.mark(*view, v.viewed, &bands_[i]);
     } else if (std::any_of(v.viewed.values.begin(), v.viewed.values.end(),
                            [](float x) { return x < kWhollyViewed; })) {
       // No camera (points from elsewhere): nothing is known to be outside the view, so

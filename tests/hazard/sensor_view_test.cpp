@@ -95,7 +95,8 @@ TEST(SensorView, MaskCountsCellsWhollyOrPartlyViewedAndReportsWhatChanged) {
   const SensorView view = forward_camera(30.0);
   DenseGrid mask;
   mask.reset(128, 128, 0.02, 0.0, 0.0, 0.0f);
-  const GridRect changed = mark_viewed(view, mask);
+  ViewMarker marker;
+  const GridRect changed = marker.mark(view, mask);
   int wholly = 0, partly = 0;
   GridRect bounds;
   for (int row = 0; row < mask.rows; ++row)
@@ -119,7 +120,7 @@ TEST(SensorView, MaskCountsCellsWhollyOrPartlyViewedAndReportsWhatChanged) {
       if (mask.x_of_col(col) < 0.0) ASSERT_EQ(mask.at(row, col), 0.0f);
   // The same view again changes nothing.
   const std::vector<float> before = mask.values;
-  EXPECT_TRUE(mark_viewed(view, mask).empty());
+  EXPECT_TRUE(marker.mark(view, mask).empty());
   EXPECT_EQ(mask.values, before);
 }
 

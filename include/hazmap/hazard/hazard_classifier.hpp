@@ -64,7 +64,7 @@ class HazardClassifier {
   /// fallback must outlive the classifier's use and read the same frame's map.
   void set_ring_fallback(const RingFallback* fallback) { fallback_ = fallback; }
 
-  /// The layer's view mask (mark_viewed: how much of each cell the stereo pair has
+  /// The layer's view mask (ViewMarker: how much of each cell the stereo pair has
   /// looked at), for hazard.partial_ring_proof: view_edge; null: every cell wholly viewed.
   /// Must outlive the classifier's use.
   void set_view_mask(const DenseGrid* viewed) { viewed_ = viewed; }

@@ -116,6 +116,7 @@ class HazardStage {
   std::vector<std::unique_ptr<CoarseRingFill>> fills_;
   /// Layer i's terrain band for its view mask: the coarser layers' heights.
   std::vector<TerrainBand> bands_;
+  ViewMarker marker_;
   std::vector<FusionInput> fusion_inputs_;
   HazardFusion fusion_;
   std::vector<LayerView> views_;

@@ -20,6 +20,7 @@
 // corners are looked at in one frame. Without a view (the map core fed points from
 // elsewhere) the hazard stage counts every cell as wholly viewed: only full rings prove.
 
+#include <cstdint>
 #include <vector>
 
 #include "hazmap/core/types.hpp"
@@ -72,10 +73,18 @@ class TerrainBand {
 constexpr float kPartlyViewed = 1.0f;
 constexpr float kWhollyViewed = 2.0f;
 
-/// Raises every cell of `viewed` (a layer's geometry) to what `view` sees of it, and
-/// returns the smallest rectangle holding the cells it changed (empty: none). Wholly
-/// viewed cells are not tested again. `terrain` (may be null) narrows a cell's column to
-/// the ground a coarser layer knows there.
-GridRect mark_viewed(const SensorView& view, DenseGrid& viewed, const TerrainBand* terrain = nullptr);
+/// Raises the cells of a layer's view mask to what each frame's view sees of them.
+class ViewMarker {
+ public:
+  /// Raises every cell of `viewed` (a layer's geometry) to what `view` sees of it, and
+  /// returns the smallest rectangle holding the cells it changed (empty: none). Wholly
+  /// viewed cells are not tested again. `terrain` (may be null) narrows a point's column
+  /// to the ground a coarser layer knows there. Allocates only on a wider mask than
+  /// before.
+  GridRect mark(const SensorView& view, DenseGrid& viewed, const TerrainBand* terrain = nullptr);
+
+ private:
+  std::vector<std::uint8_t> top_, bottom_;  ///< a row's upper and lower cell corners
+};
 
 }  // namespace hazmap
