@@ -845,12 +845,11 @@ LateralGate vouching_gate(const Config& config, const HazardParams& hazard_param
   gate.ray_model = config.sensor.model == SensorModel::ray;
   gate.pointing_px = config.sensor.pointing_error_px;
   gate.matching_px = config.sensor.disparity_error_px;
-  if (config.stereo.matcher != StereoMatcher::c2f) {
-    if (config.stereo.match_left_border)
-      gate.edge_margin_px = config.stereo.block_size;
-    else
-      gate.blank_columns = config.stereo.min_disparity + config.stereo.num_disparities;
-  }
+  // bm and sgbm keep a match in the left border only with a window to spare from the
+  // right image's edge (c2f has no such rule).
+  if (config.stereo.matcher != StereoMatcher::c2f && config.stereo.match_left_border)
+    gate.edge_margin_px = config.stereo.block_size;
+  gate.blank_columns = blank_left_columns(config.stereo);
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     if (hazard_params.layers[i].h_min_m > hazard_params.critical_height_m) continue;
     const double g = gate_std_m(config.map.layers[i], config.rules);

@@ -64,8 +64,7 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
   // No disparity within half a matching window of the border, nor in the band OpenCV
   // leaves blank on the left when it is not matched (stereo.match_left_border).
   view_.edge_margin_px = (config.stereo.block_size + 1) / 2;
-  if (config.stereo.matcher != StereoMatcher::c2f && !config.stereo.match_left_border)
-    view_.blank_left_px = config.stereo.min_disparity + config.stereo.num_disparities;
+  view_.blank_left_px = blank_left_columns(config.stereo);
   view_.z_min_m = config.stereo.z_min_m;
   view_.z_max_m = config.stereo.z_max_m;
   view_.band_below_m = config.stereo.band_max_depth_m;

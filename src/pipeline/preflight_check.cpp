@@ -422,8 +422,7 @@ PreflightReport preflight_check(const Config& config, const Sequence& sequence,
     }
   }
   c.row_offset = summarise_row_offsets(row_offsets, front, config);
-  report.matches_left_border =
-      config.stereo.matcher == StereoMatcher::c2f || config.stereo.match_left_border;
+  report.matches_left_border = matches_left_columns(config.stereo);
   report.search_min_disparity = front.matcher().min_disparity();
   report.search_num_disparities = front.matcher().num_disparities();
   if (!dv.empty()) {

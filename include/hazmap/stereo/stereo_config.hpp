@@ -143,6 +143,18 @@ struct StereoConfig {
   C2fConfig c2f;
 };
 
+/// Whether the matcher searches the left image's first min_disparity + num_disparities
+/// columns: c2f always, bm and sgbm with match_left_border (OpenCV leaves them blank).
+inline bool matches_left_columns(const StereoConfig& c) {
+  return c.matcher == StereoMatcher::c2f || c.match_left_border;
+}
+
+/// The left image's leading columns that never get a disparity: OpenCV's blank band when
+/// it is not matched, else 0.
+inline int blank_left_columns(const StereoConfig& c) {
+  return matches_left_columns(c) ? 0 : c.min_disparity + c.num_disparities;
+}
+
 struct SensorConfig {
   SensorModel model = SensorModel::axis;
   double pointing_error_px = 0.5;
