@@ -66,9 +66,9 @@ struct Projector {
     return sees(x, y, height_at(x, y, -view.band_below_m), height_at(x, y, view.band_above_m));
   }
 
-  /// The column over (x, y) between W heights z_lo and z_hi.
+  /// The column over (x, y) between W heights z_lo and z_hi; callers reject (x, y)
+  /// outside the frustum's bounds first (may_see).
   bool sees(double x, double y, double z_lo, double z_hi) const {
-    if (!may_see(x, y)) return false;
     double t0 = 0.0, t1 = 1.0;
     const double dz = z_hi - z_lo;
     for (int i = 0; i < 6; ++i)

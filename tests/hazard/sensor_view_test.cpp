@@ -117,7 +117,9 @@ TEST(SensorView, MaskCountsCellsWhollyOrPartlyViewedAndReportsWhatChanged) {
   // Nothing behind the camera: the rover's rear half is never looked at.
   for (int row = 0; row < mask.rows; ++row)
     for (int col = 0; col < mask.cols; ++col)
-      if (mask.x_of_col(col) < 0.0) ASSERT_EQ(mask.at(row, col), 0.0f);
+      if (mask.x_of_col(col) < 0.0) {
+        ASSERT_EQ(mask.at(row, col), 0.0f);
+      }
   // The same view again changes nothing.
   const std::vector<float> before = mask.values;
   EXPECT_TRUE(marker.mark(view, mask).empty());
@@ -224,7 +226,9 @@ TEST(SensorView, ViewEdgeProvesARingCutByTheViewAndNotOneWithAHoleInside) {
     // Without a view nothing is known to lie outside it: only full rings prove.
     HazardStage blind(resolve_hazard_params(config), false);
     blind.run(stack);
-    if (mode != PartialRingProof::any) EXPECT_EQ(class_at(blind, 0.105, 0.005), U);
+    if (mode != PartialRingProof::any) {
+      EXPECT_EQ(class_at(blind, 0.105, 0.005), U);
+    }
   }
 }
 

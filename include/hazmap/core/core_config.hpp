@@ -33,7 +33,6 @@ struct EnumNames<CcmWeighting> {
 
 /// hazard.roughness: the piecewise-constant kernel statistic (SPEC 8.1).
 enum class RoughnessStatistic { range, detrended };
-
 template <>
 struct EnumNames<RoughnessStatistic> {
   static constexpr const char* names[] = {"range", "detrended"};

@@ -43,8 +43,9 @@ struct LayerView {
   LayerGrids map;                 ///< height, variance (+ plane grids for CCM layers)
   HazardDiagnostics diagnostics;  ///< the classifier's intermediate grids
   DenseGrid hazard;               ///< HazardClass values
-  /// 1 where the stereo pair has ever looked (SensorView), else 0; kept only with
-  /// hazard.partial_ring_proof: view_edge (empty otherwise).
+  /// How much of each cell the stereo pair has ever looked at (0, kPartlyViewed,
+  /// kWhollyViewed; ViewMarker); kept only with hazard.partial_ring_proof: view_edge
+  /// (empty otherwise).
   DenseGrid viewed;
 };
 

@@ -16,9 +16,10 @@
 // A layer's lateral gate (rules.ccm.max_std_ratio) does not end its view: beyond it the
 // coarser layers saw the ground, and a ring sample there comes from their plane
 // (hazard.coarse_ring_fill) or keeps the ring from proving. (Measured: excusing such
-// samples proved the rim of a 12 cm rock under low sun.) A cell is wholly viewed when its centre and four
-// corners are looked at in one frame. Without a view (the map core fed points from
-// elsewhere) the hazard stage counts every cell as wholly viewed: only full rings prove.
+// samples proved the rim of a 12 cm rock under low sun.) A cell is wholly viewed when its
+// centre and four corners are looked at in one frame. Without a view (the map core fed
+// points from elsewhere) the hazard stage counts every cell as wholly viewed: only full
+// rings prove.
 
 #include <cstdint>
 #include <vector>
