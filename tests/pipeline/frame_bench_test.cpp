@@ -21,12 +21,17 @@ TEST(FullResConfig, LoadsValidatesAndKeepsTheFlightStack) {
   EXPECT_GE(full.stereo.num_disparities, 305);
   EXPECT_EQ(full.stereo.num_disparities % 16, 0);
 
-  // Only the keys measured in pixels differ from the 0.4-scale flight config.
+  // Only the keys measured in pixels differ from the 0.4-scale flight config, and the
+  // 4 cm layer's lateral gate, whose reach scales with the focal length: at 268 px the
+  // flight config widens it to reach ~0.95 m; at 671 px the plain gate reaches ~1.25 m.
   const Config flight = load_config(testing::source_dir() / "config/cadre_flight.yaml");
   Config same = full;
   same.stereo.num_disparities = flight.stereo.num_disparities;
   same.stereo.speckle_window = flight.stereo.speckle_window;
   same.stereo.support_rows = flight.stereo.support_rows;
+  ASSERT_EQ(same.map.layers.size(), flight.map.layers.size());
+  EXPECT_FALSE(full.map.layers[1].max_std_ratio.has_value());
+  same.map.layers[1].max_std_ratio = flight.map.layers[1].max_std_ratio;
   EXPECT_EQ(to_yaml(same), to_yaml(flight));
 }
 
