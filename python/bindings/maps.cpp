@@ -131,7 +131,7 @@ const LayerGridField kLayerGrids[] = {
     {"slope_y", &LayerGrids::slope_y, "CCM: dz/dy of the cell plane; None for other rules."},
     {"roughness", &LayerGrids::roughness, "CCM: plane-normal variance rho [m^2]; None for other rules."},
     {"coverage", &LayerGrids::coverage, "CCM: coverage kappa; None for other rules."},
-    {"evaluable", &LayerGrids::evaluable, "CCM: 1 evaluable, 0 not; None for other rules."},
+    {"evaluable", &LayerGrids::evaluable, "CCM: 1 evaluable, 0 not, 0.5 a plane from a hole-free view (map.layers.N.hole_free_coverage) for the cell's own tests only; None for other rules."},
     {"noise_variance", &LayerGrids::noise_variance, "CCM: mean measurement height variance of the cell's points [m^2]; None otherwise."},
     {"lateral_xx", &LayerGrids::lateral_xx, "CCM: lateral covariance S/W, xx [m^2]; None otherwise."},
     {"lateral_yy", &LayerGrids::lateral_yy, "CCM: lateral covariance, yy [m^2]; None otherwise."},

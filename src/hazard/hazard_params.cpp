@@ -43,6 +43,8 @@ LayerHazardParams resolve_layer_hazard(const LayerConfig& layer, const CoreConfi
   p.min_axis_coverage = hz.min_axis_coverage;
   p.partial_ring_proof = hz.partial_ring_proof;
   p.min_points = config.rules.ccm.min_points;
+  if (p.family == HazardFamily::plane) p.hole_free_coverage = layer.hole_free_coverage;
+  p.hole_free_tolerance_px = hz.hole_free_tolerance_px;
   p.max_effective_count = config.rules.ccm.weighting == CcmWeighting::constant ? config.rules.ccm.max_weight : 1e300;
   if (p.family == HazardFamily::piecewise_constant) {
     const double t = std::tan(p.max_slope_rad);

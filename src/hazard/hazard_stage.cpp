@@ -110,6 +110,13 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
     if (params_.layers[i].partial_ring_proof == PartialRingProof::view_edge)
       classifiers_[i]->set_view_mask(&views_[i].viewed);
   }
+  seen_whole_.resize(views_.size());
+  for (size_t i = 0; i < views_.size(); ++i)
+    if (params_.layers[i].hole_free_coverage > 0) {
+      // views_ never grows: the rule keeps a pointer to the marks.
+      seen_whole_[i] = {&views_[i].seen_whole, params_.layers[i].hole_free_coverage,
+                        params_.layers[i].min_points};
+    }
   bands_.resize(views_.size());
   for (size_t i = 0; i < views_.size(); ++i)
     for (size_t j = i + 1; j < views_.size(); ++j) {
@@ -201,10 +208,34 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
     }
   }
 
+  // The hole-free marks move with the window (cells new to it: no verdict yet).
+  const SeenWhole* seen_whole = seen_whole_[i].marks ? &seen_whole_[i] : nullptr;
+  if (seen_whole) {
+    if (placed) {
+      v.seen_whole.shift(drow, dcol, 0.0f);
+      v.seen_whole.center_x_m = g.center_x_m();
+      v.seen_whole.center_y_m = g.center_y_m();
+    } else {
+      v.seen_whole.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
+    }
+  }
+  // This frame's verdicts, on the export as it stands; the cells whose mark changed are
+  // exported again (their plane) and returned.
+  const auto mark_holes = [&]() -> GridRect {
+    if (!seen_whole || !view) return {};
+    const double limit = i < view->layer_depth_limit_m.size() && view->layer_depth_limit_m[i] > 0
+                             ? view->layer_depth_limit_m[i]
+                             : 1e300;
+    return HoleMarker::mark(*view, v.map, params_.layers[i].hole_free_tolerance_px, v.seen_whole,
+                            limit);
+  };
+
   // Whole when the coarser layer this one's rings read was (rare: a jump, the first frame).
   s.whole = !incremental_ || !placed || map.exports_vary(i) || coarse_whole;
   if (s.whole) {
-    map.export_layer(i, v.map);
+    map.export_layer(i, v.map, seen_whole);
+    // Whole again, not the region: a layer exported whole may inflate every variance.
+    if (!mark_holes().empty()) map.export_layer(i, v.map, seen_whole);
     classifiers_[i]->classify(v.map, v.hazard, v.diagnostics);
     s.classified.add(GridRect::full(n, n));
   } else {
@@ -230,7 +261,12 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
     CellRange parts[4];
     for (int k = 0, m = difference(window, old_window, parts); k < m; ++k)
       scratch_.add(image_rect(parts[k], 1, window.x0, window.y0, n));
-    for (const GridRect& r : scratch_) layer.export_region(v.map, r);
+    for (const GridRect& r : scratch_) layer.export_region(v.map, r, seen_whole);
+    const GridRect marked = mark_holes();
+    if (!marked.empty()) {
+      layer.export_region(v.map, marked, seen_whole);
+      scratch_.add(marked);
+    }
     // Results read cells up to reach_cells() away, inside the window: near the cells
     // above, near the strips that left (a kernel or ring there now leaves the layer), and
     // near the cells the view newly reached (a ring sample there is no longer unseen).

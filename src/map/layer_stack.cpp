@@ -182,8 +182,8 @@ CellRange LayerStack::changed_cells(std::size_t i) const {
   return changed;
 }
 
-void LayerStack::export_layer(std::size_t i, LayerGrids& out) const {
-  layers_[i]->export_grids(out, track_pose_ ? &pose_ : nullptr, robot_x_m_, robot_y_m_);
+void LayerStack::export_layer(std::size_t i, LayerGrids& out, const SeenWhole* seen_whole) const {
+  layers_[i]->export_grids(out, track_pose_ ? &pose_ : nullptr, robot_x_m_, robot_y_m_, seen_whole);
 }
 
 }  // namespace hazmap

@@ -9,6 +9,7 @@
 #include "hazmap/core/error.hpp"
 #include "hazmap/core/stopwatch.hpp"
 #include "hazmap/rules/rule_registry.hpp"
+#include "hazmap/stereo/sensor_model.hpp"
 
 namespace hazmap {
 namespace {
@@ -69,6 +70,31 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
   view_.z_max_m = config.stereo.z_max_m;
   view_.band_below_m = config.stereo.band_max_depth_m;
   view_.band_above_m = config.stereo.band_max_height_m;
+  view_.baseline_m = rect.geometry().baseline_m;
+  view_.stride = config.stereo.stride;
+  // Where each layer's lateral gate ends, for the body level: the depth at which a point
+  // at the image centre gets the gate's lateral sigma in W (the sensor model's, as the
+  // map reads it: the largest eigenvalue of its xy covariance).
+  const StereoGeometry& geometry = rect.geometry();
+  const Eigen::Matrix3d R = view_.T_B_C.linear();
+  const auto lateral_std = [&](double z) {
+    const Eigen::Matrix3d C =
+        config.sensor.model == SensorModel::ray
+            ? covariance_ray(geometry, geometry.cx_px, geometry.cy_px, geometry.focal_px * geometry.baseline_m / z,
+                             config.sensor.pointing_error_px, config.sensor.disparity_error_px)
+            : covariance_axis(geometry, z, config.sensor.pointing_error_px, config.sensor.disparity_error_px);
+    const Eigen::Matrix3d W = R * C * R.transpose();
+    const double half_sum = 0.5 * (W(0, 0) + W(1, 1)), half_gap = 0.5 * (W(0, 0) - W(1, 1));
+    return std::sqrt(half_sum + std::sqrt(half_gap * half_gap + W(0, 1) * W(0, 1)));
+  };
+  for (const LayerConfig& layer : config.map.layers) {
+    const double gate = gate_std_m(layer, config.rules);
+    double lo = config.stereo.z_min_m, hi = config.stereo.z_max_m;
+    if (gate > 0 && lateral_std(hi) > gate) {
+      for (int k = 0; k < 60; ++k) (lateral_std(0.5 * (lo + hi)) > gate ? hi : lo) = 0.5 * (lo + hi);
+    }
+    view_.layer_depth_limit_m.push_back(gate > 0 ? hi : 0.0);
+  }
 }
 
 FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const Pose3d& T_W_B,
@@ -96,6 +122,17 @@ FrameReport Pipeline::process(const cv::Mat& left, const cv::Mat& right, const P
 
   t = Clock::now();
   view_.T_W_B = T_W_B;
+  // The disparity image as it reached the map (occluded pixels marked invalid), for the
+  // hole-free test; the region may change with a row offset measured later.
+  const cv::Mat& disparity = front_.disparity_x16();
+  const cv::Rect region = front_.builder().region();
+  view_.disparity_x16 = disparity.empty() ? nullptr : disparity.ptr<std::int16_t>(0);
+  view_.disparity_stride = static_cast<int>(disparity.step1());
+  view_.invalid_below_x16 = front_.matcher().invalid_below();
+  view_.roi_x0 = region.x;
+  view_.roi_y0 = region.y;
+  view_.roi_x1 = region.x + region.width;
+  view_.roi_y1 = region.y + region.height;
   mapper_.classify(&view_);
   report.ms.hazard_ms = ms_since(t);
   return report;

@@ -69,6 +69,10 @@ struct LayerConfig {
   /// SPEC 4 gating: drop points whose lateral std exceeds max_std_ratio * r / sqrt(12);
   /// 0 off, auto: rules.ccm.max_std_ratio.
   std::optional<double> max_std_ratio;
+  /// CCM (issue 34): a cell whose points spread over at least this share of it (kappa)
+  /// has a plane for its own tests when some frame's disparity image saw all of it
+  /// without a hole (hazard/hole_marker.hpp); 0: off, only rules.ccm.min_coverage.
+  double hole_free_coverage = 0.0;
   LayerHazardConfig hazard;
 };
 
@@ -136,6 +140,10 @@ struct HazardConfig {
   /// Wheel ring (issue 34): a sample this layer has not measured is taken from the next
   /// coarser layer's plane where that layer measured it (HazardStage, CoarseRingFill).
   bool coarse_ring_fill = false;
+  /// Hole-free test (map.layers.N.hole_free_coverage): a pixel's disparity within this of
+  /// the cell's level plane [px] saw its ground; off by more, the frame does not judge
+  /// that quarter of the cell.
+  double hole_free_tolerance_px = 1.0;
   /// SPEC 8.6: re-classify only the cells whose result can have changed (equal to a full
   /// pass; false: every cell of every layer every frame, for comparison).
   bool incremental = true;

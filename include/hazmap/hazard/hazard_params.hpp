@@ -48,6 +48,10 @@ struct LayerHazardParams {
   /// lambda / (r^2 / 12) reaches this (hazard.min_axis_coverage).
   double min_axis_coverage = 0.0;
   int min_points = 10;
+  /// CCM: a cell spread over at least this share is evaluable when a frame's disparity
+  /// image saw it whole (map.layers.N.hole_free_coverage; HoleMarker); 0 off.
+  double hole_free_coverage = 0.0;
+  double hole_free_tolerance_px = 1.0;  ///< hazard.hole_free_tolerance (HoleMarker)
   /// Points a CCM cell's statistics can count on at most (its weight cap, for constant
   /// weights: older points are discounted beyond it); infinity otherwise.
   double max_effective_count = 1e300;

@@ -19,6 +19,8 @@
 //    distance stays a whole pass (HazardFusion::footprint).
 //  - with hazard.partial_ring_proof: view_edge a ring reads the layer's view mask: the
 //    cells the frame's view newly reached are re-classified, grown by the reach.
+//  - with map.layers.N.hole_free_coverage a layer's export reads its hole-free marks: the
+//    cells whose mark changed are re-exported and re-classified, grown by the reach.
 //  - with hazard.coarse_ring_fill a layer's rings read the next coarser layer too: the
 //    coarser layer runs first, and the finer one also re-classifies, grown by its reach,
 //    the cells under the coarser layer's changed cells and window strips (whole when the
@@ -33,6 +35,7 @@
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/hole_marker.hpp"
 #include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/map/layer_stack.hpp"
 
@@ -47,6 +50,9 @@ struct LayerView {
   /// kWhollyViewed; ViewMarker); kept only with hazard.partial_ring_proof: view_edge
   /// (empty otherwise).
   DenseGrid viewed;
+  /// Which cells a frame's disparity image saw whole (0, kSeenWhole, kHoleSeen;
+  /// HoleMarker); kept only with map.layers.N.hole_free_coverage (empty otherwise).
+  DenseGrid seen_whole;
 };
 
 /// The maps a planner consumes (SPEC 8.4, 8.5), at the finest layer's resolution.
@@ -117,6 +123,8 @@ class HazardStage {
   std::vector<std::unique_ptr<CoarseRingFill>> fills_;
   /// Layer i's terrain band for its view mask: the coarser layers' heights.
   std::vector<TerrainBand> bands_;
+  /// Layer i's hole-free rule (marks: views_[i].seen_whole), or marks null: none.
+  std::vector<SeenWhole> seen_whole_;
   ViewMarker marker_;
   std::vector<FusionInput> fusion_inputs_;
   HazardFusion fusion_;

@@ -191,7 +191,9 @@ class PlaneFamilyClassifier final : public HazardClassifier {
           cell.step_variance_m2 = g.variance.at(row, col) + sensor_noise_at(g.noise_variance, row, col);
           few_tests_.run(cell, ev);
         } else {
-          cell.evaluable = g.evaluable.at(row, col) == 1.0f;
+          // A plane from a hole-free view classifies its own cell (PlaneSurface::at
+          // reads only 1: no ring sample for others).
+          cell.evaluable = g.evaluable.at(row, col) == 1.0f || g.evaluable.at(row, col) == kEvaluableOwnCell;
           cell.noise = plane_cell_noise(g, row, col, p.max_effective_count);
           // The height: the plane at the centre (the mean's variance), or mu_z with the
           // published variance, which covers the unknown tilt.

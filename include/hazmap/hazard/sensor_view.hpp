@@ -41,6 +41,20 @@ struct SensorView {
   double blank_left_px = 0;
   double z_min_m = 0, z_max_m = 0;     ///< depth along the optical axis (stereo.z_min, z_max)
   double band_below_m = 0.5, band_above_m = 0.5;
+  /// The frame's disparity image (rectified left, x16 fixed point, row-major with
+  /// `disparity_stride` elements per row; a value <= invalid_below_x16 or <= 0 is no
+  /// disparity) and the part of it that may give points, for the hole-free test
+  /// (hazard/hole_marker.hpp). Null: no disparity image (points from elsewhere).
+  const std::int16_t* disparity_x16 = nullptr;
+  int disparity_stride = 0;
+  int invalid_below_x16 = 0;
+  int roi_x0 = 0, roi_y0 = 0, roi_x1 = 0, roi_y1 = 0;  ///< [x0, x1) x [y0, y1)
+  int stride = 1;  ///< pixels giving points: every stride-th from (roi_x0, roi_y0)
+  double baseline_m = 0;
+  /// Per layer: the depth beyond which the layer's lateral gate drops every point
+  /// (map.layers.N.max_std_ratio), set once; a pixel farther gives the layer nothing, so
+  /// the hole-free test does not look there. Empty or 0: z_max.
+  std::vector<double> layer_depth_limit_m;
 
   /// True when the column over W point (x, y), between the body band's heights, reaches
   /// the matchable image (edge_margin_px in from its border) within the depth range.

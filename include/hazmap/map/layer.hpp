@@ -13,6 +13,7 @@
 #include "hazmap/map/point_chunk.hpp"
 #include "hazmap/map/pose_uncertainty.hpp"
 #include "hazmap/map/rolling_grid.hpp"
+#include "hazmap/map/seen_whole.hpp"
 
 namespace hazmap {
 
@@ -32,7 +33,9 @@ struct LayerGrids {
   DenseGrid slope_y;    ///< dz/dy
   DenseGrid roughness;  ///< plane-normal variance rho [m^2]
   DenseGrid coverage;   ///< kappa
-  DenseGrid evaluable;  ///< 1 evaluable, 0 not
+  /// 1 evaluable, 0 not, kEvaluableOwnCell: a plane for the cell's own tests only
+  /// (map/seen_whole.hpp)
+  DenseGrid evaluable;
   /// Mean measurement height variance Sigma_W(2,2) of the cell's points [m^2] (weighted
   /// like the points): the part of rho that is sensor noise (SPEC 8.2).
   DenseGrid noise_variance;
@@ -107,14 +110,16 @@ class Layer {
   virtual bool covered(int slot) const = 0;
 
   /// Exports the window's grids (buffers reused). With `pose` the variance is inflated
-  /// by the pose uncertainty added since each cell's last update.
+  /// by the pose uncertainty added since each cell's last update. `seen_whole` (CCM
+  /// layers): cells evaluable by a hole-free view as well (map/seen_whole.hpp).
   virtual void export_grids(LayerGrids& out, const PoseUncertainty* pose, double robot_x_m,
-                            double robot_y_m) const = 0;
+                            double robot_y_m, const SeenWhole* seen_whole = nullptr) const = 0;
   /// Re-exports the cells of `rect` (image order of the current window) only, for a frame
   /// that changed only them (SPEC 8.6). `out` must hold this window's grids already: an
   /// earlier export, shifted with the window since (DenseGrid::shift). No pose inflation:
   /// it changes every cell's variance, so those layers are exported whole.
-  virtual void export_region(LayerGrids& out, const GridRect& rect) const = 0;
+  virtual void export_region(LayerGrids& out, const GridRect& rect,
+                             const SeenWhole* seen_whole = nullptr) const = 0;
   /// Whether a cell's export changes from frame to frame without an update
   /// (Rule::ages_exports: Kalman time inflation).
   virtual bool ages_exports() const = 0;

@@ -45,8 +45,9 @@ class LayerStack {
   /// the others cause it); pooling into a layer counts for that layer.
   std::size_t insert(const MapPoints& points, double* layer_ms = nullptr);
 
-  /// Exports layer i's grids (variance inflated by pose uncertainty when enabled).
-  void export_layer(std::size_t i, LayerGrids& out) const;
+  /// Exports layer i's grids (variance inflated by pose uncertainty when enabled);
+  /// `seen_whole`: its cells also evaluable by a hole-free view (map/seen_whole.hpp).
+  void export_layer(std::size_t i, LayerGrids& out, const SeenWhole* seen_whole = nullptr) const;
 
   /// Cells of layer i whose state this frame may have changed, as global indices cut to
   /// the window (SPEC 8.6): those under the bounding box of the points of the last insert

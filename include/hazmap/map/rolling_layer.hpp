@@ -176,7 +176,7 @@ class RollingLayer final : public Layer {
   bool covered(int slot) const override { return pooled() && covered_[slot]; }
 
   void export_grids(LayerGrids& out, const PoseUncertainty* pose, double robot_x_m,
-                    double robot_y_m) const override {
+                    double robot_y_m, const SeenWhole* seen_whole = nullptr) const override {
     const int n = grid_.size();
     const double r = grid_.resolution_m();
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -192,11 +192,12 @@ class RollingLayer final : public Layer {
       else
         g->reset(0, 0, r, grid_.center_x_m(), grid_.center_y_m(), nan);
     }
-    layer_export::export_cells(cells_, grid_, out, GridRect::full(n, n));
+    layer_export::export_cells(cells_, grid_, out, GridRect::full(n, n), seen_whole);
     if (pose) layer_export::inflate_variance(cells_, grid_, out, *pose, robot_x_m, robot_y_m);
   }
 
-  void export_region(LayerGrids& out, const GridRect& rect) const override {
+  void export_region(LayerGrids& out, const GridRect& rect,
+                     const SeenWhole* seen_whole = nullptr) const override {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const GridRect cut = rect.clipped(grid_.size(), grid_.size());
     if (cut.empty()) return;
@@ -210,7 +211,7 @@ class RollingLayer final : public Layer {
     clear(out.height);
     clear(out.variance);
     for (DenseGrid* g : layer_export::plane_grids(out)) clear(*g);
-    layer_export::export_cells(cells_, grid_, out, cut);
+    layer_export::export_cells(cells_, grid_, out, cut, seen_whole);
   }
 
   bool ages_exports() const override { return Rule::ages_exports(cells_.config()); }

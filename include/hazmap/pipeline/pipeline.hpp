@@ -72,6 +72,8 @@ class Pipeline {
   const Rectifier& rectifier() const { return front_.rectifier(); }
   const DisparityMatcher& matcher() const { return front_.matcher(); }
   const PointCloudBuilder& builder() const { return front_.builder(); }
+  /// What the cameras looked at in the last frame, as the hazard stage read it.
+  const SensorView& sensor_view() const { return view_; }
 
  private:
   Config config_;

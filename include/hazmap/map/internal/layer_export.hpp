@@ -23,10 +23,11 @@ inline std::array<DenseGrid*, 12> plane_grids(LayerGrids& out) {
           &out.lateral_yy, &out.lateral_xy, &out.lateral_xz, &out.lateral_yz};
 }
 
-/// Writes the known cells of `rect` into grids that hold NaN there.
+/// Writes the known cells of `rect` into grids that hold NaN there. `seen_whole`: cells
+/// also evaluable by a hole-free view (map/seen_whole.hpp); null: none.
 template <class Rule>
 void export_cells(const LayerCells<Rule>& cells, const RollingGrid& grid, LayerGrids& out,
-                  const GridRect& rect) {
+                  const GridRect& rect, const SeenWhole* seen_whole = nullptr) {
   const auto& config = cells.config();
   const int n = grid.size();
   const double r = grid.resolution_m();
@@ -39,7 +40,11 @@ void export_cells(const LayerCells<Rule>& cells, const RollingGrid& grid, LayerG
       if constexpr (Rule::kHasPlane) {
         // SPEC 6.4: an evaluable cell publishes its plane at the centre; any other its
         // mean height, no slopes, and a variance that covers the unmeasured tilt.
-        const bool evaluable = Rule::evaluable(config, c, r);
+        const PlaneCellValues v = Rule::cell_values(c);
+        const double coverage = Rule::coverage(c, r);
+        const bool by_rule = Rule::evaluable(config, c, r);
+        const bool by_mark = !by_rule && seen_whole && seen_whole->by_mark(row, col, coverage, v.count);
+        const bool evaluable = by_rule || by_mark;
         if (evaluable) {
           double a, b;
           Rule::slopes(config, c, &a, &b);
@@ -52,9 +57,8 @@ void export_cells(const LayerCells<Rule>& cells, const RollingGrid& grid, LayerG
         out.variance.at(row, col) =
             static_cast<float>(Rule::published_variance(config, c, r, evaluable));
         out.roughness.at(row, col) = static_cast<float>(Rule::roughness(config, c));
-        out.coverage.at(row, col) = static_cast<float>(Rule::coverage(c, r));
-        out.evaluable.at(row, col) = evaluable ? 1.0f : 0.0f;
-        const PlaneCellValues v = Rule::cell_values(c);
+        out.coverage.at(row, col) = static_cast<float>(coverage);
+        out.evaluable.at(row, col) = by_rule ? 1.0f : by_mark ? kEvaluableOwnCell : 0.0f;
         out.count.at(row, col) = v.count;
         out.noise_variance.at(row, col) = v.noise_variance;
         out.lateral_xx.at(row, col) = v.lateral_xx;
