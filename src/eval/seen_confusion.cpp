@@ -56,8 +56,7 @@ void SeenMap::add_depth(const cv::Mat& depth, const DepthCamera& camera, const P
                              gate->pointing_px, gate->matching_px)
             : covariance_axis(geometry, z, gate->pointing_px, gate->matching_px);
     const Eigen::Matrix3d W = R * C * R.transpose();
-    const double half_sum = 0.5 * (W(0, 0) + W(1, 1)), half_gap = 0.5 * (W(0, 0) - W(1, 1));
-    return half_sum + std::sqrt(half_gap * half_gap + W(0, 1) * W(0, 1));
+    return major_lateral_variance(W(0, 0), W(1, 1), W(0, 1));
   };
   for (int v = 0; v < depth.rows; ++v) {
     const float* row = depth.ptr<float>(v);

@@ -186,17 +186,21 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
   }
+  // A per-cell mask of what frames saw moves with the window; cells new to it hold 0.
+  const auto follow_window = [&](DenseGrid& mask) {
+    if (placed) {
+      mask.shift(drow, dcol, 0.0f);
+      mask.center_x_m = g.center_x_m();
+      mask.center_y_m = g.center_y_m();
+    } else {
+      mask.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
+    }
+  };
   // The view mask moves with the window (cells new to it: never looked at), then takes
   // this frame's view; the cells it newly reached are re-classified below.
   GridRect newly_viewed;
   if (params_.layers[i].partial_ring_proof == PartialRingProof::view_edge) {
-    if (placed) {
-      v.viewed.shift(drow, dcol, 0.0f);
-      v.viewed.center_x_m = g.center_x_m();
-      v.viewed.center_y_m = g.center_y_m();
-    } else {
-      v.viewed.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
-    }
+    follow_window(v.viewed);
     if (view) {
       newly_viewed = marker_.mark(*view, v.viewed, &bands_[i]);
     } else if (std::any_of(v.viewed.values.begin(), v.viewed.values.end(),
@@ -210,15 +214,7 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
 
   // The hole-free marks move with the window (cells new to it: no verdict yet).
   const SeenWhole* seen_whole = seen_whole_[i].marks ? &seen_whole_[i] : nullptr;
-  if (seen_whole) {
-    if (placed) {
-      v.seen_whole.shift(drow, dcol, 0.0f);
-      v.seen_whole.center_x_m = g.center_x_m();
-      v.seen_whole.center_y_m = g.center_y_m();
-    } else {
-      v.seen_whole.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
-    }
-  }
+  if (seen_whole) follow_window(v.seen_whole);
   // This frame's verdicts, on the export as it stands; the cells whose mark changed are
   // exported again (their plane) and returned.
   const auto mark_holes = [&]() -> GridRect {

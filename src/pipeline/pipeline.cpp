@@ -84,8 +84,7 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
                              config.sensor.pointing_error_px, config.sensor.disparity_error_px)
             : covariance_axis(geometry, z, config.sensor.pointing_error_px, config.sensor.disparity_error_px);
     const Eigen::Matrix3d W = R * C * R.transpose();
-    const double half_sum = 0.5 * (W(0, 0) + W(1, 1)), half_gap = 0.5 * (W(0, 0) - W(1, 1));
-    return std::sqrt(half_sum + std::sqrt(half_gap * half_gap + W(0, 1) * W(0, 1)));
+    return std::sqrt(major_lateral_variance(W(0, 0), W(1, 1), W(0, 1)));
   };
   for (const LayerConfig& layer : config.map.layers) {
     const double gate = gate_std_m(layer, config.rules);

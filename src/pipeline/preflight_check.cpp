@@ -13,6 +13,7 @@
 #include "hazmap/stereo/row_offset.hpp"
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/pipeline/rig_geometry.hpp"
+#include "hazmap/stereo/sensor_model.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 
 namespace hazmap {
@@ -151,9 +152,7 @@ FrameCheck check_frame(StereoFrontEnd& front, const SequenceFrame& frame, const 
     const double d = std::hypot(dx, dy);
     if (std::isnan(fc.nearest_point_distance_m) || d < fc.nearest_point_distance_m)
       fc.nearest_point_distance_m = d;
-    const double half_sum = 0.5 * (double(m.cov_xx) + m.cov_yy);
-    const double half_gap = 0.5 * (double(m.cov_xx) - m.cov_yy);
-    const double lateral_var = half_sum + std::sqrt(half_gap * half_gap + double(m.cov_xy) * m.cov_xy);
+    const double lateral_var = major_lateral_variance(m.cov_xx, m.cov_yy, m.cov_xy);
     for (size_t i = 0; i < layers.size(); ++i) {
       const double half = 0.5 * layers[i].size * layers[i].resolution_m;
       if (std::abs(dx) <= half && std::abs(dy) <= half && lateral_var <= gate_var[i]) ++inside[i];

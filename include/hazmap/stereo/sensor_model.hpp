@@ -53,4 +53,12 @@ inline Eigen::Matrix3d covariance_ray(const StereoGeometry& g, double u, double 
   return J * noise.asDiagonal() * J.transpose();
 }
 
+/// Variance along the major axis of a point's horizontal spread: the largest eigenvalue of
+/// the x-y block [[xx, xy], [xy, yy]] of its covariance in W, which the map's lateral gate
+/// compares with the gate (map_points.cpp, in float there).
+inline double major_lateral_variance(double xx, double yy, double xy) {
+  const double half_sum = 0.5 * (xx + yy), half_gap = 0.5 * (xx - yy);
+  return half_sum + std::sqrt(half_gap * half_gap + xy * xy);
+}
+
 }  // namespace hazmap
