@@ -270,8 +270,9 @@ for n in "${names[@]}"; do
     echo "== $n: seen cells within ${near} m (pooled over the frames) =="
     echo "   F = free ground, H = obstacle >= h_min, tall = >= 2 h_min; ->T/U/H traversable/unknown/hazard;"
     echo "   gF: free ground seen within the vouching layers' lateral gate (points a vouching layer would take)"
+    echo "   rF: gF whose wheel-ring samples are gF too (footprint: the whole disc of footprint + ring radius)"
     echo "   reasons: of the free cells left unknown, the share with each reason (any/sole), largest first"
-    printf '%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s %7s %6s  %s\n' scenario map F_m2 F-T% F-U% F-H% H-H% H-U% H-T% tall-H% gF_m2 gF-T% reasons
+    printf '%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s %7s %6s %7s %6s  %s\n' scenario map F_m2 F-T% F-U% F-H% H-H% H-U% H-T% tall-H% gF_m2 gF-T% rF_m2 rF-T% reasons
     for s in $scenarios; do
       csv="$out/$n/$s/eval/summary.csv"
       [ -f "$csv" ] || continue
@@ -292,12 +293,13 @@ for n in "${names[@]}"; do
             name = best; sub(/^near_seen_unknown_free_/, "", name)
             reasons = reasons sprintf(" %s %.0f/%.0f", name, 100 * bv, 100 * v(best "_sole"))
           }
-          printf "%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s %7s %6s %s\n", scen, v("layer"),
+          printf "%-8s %-9s %7s %6s %6s %6s %6s %6s %6s %7s %7s %6s %7s %6s %s\n", scen, v("layer"),
             p(v("near_seen_free_m2"), 1, "%.3f"), p(v("near_seen_free_traversable"), 100, "%.1f"),
             p(v("near_seen_free_unknown"), 100, "%.1f"), p(v("near_seen_free_hazard"), 100, "%.2f"),
             p(v("near_seen_hazard_hazard"), 100, "%.1f"), p(v("near_seen_hazard_unknown"), 100, "%.1f"),
             p(v("near_seen_hazard_traversable"), 100, "%.2f"), p(v("near_seen_tall_hazard"), 100, "%.1f"),
             p(v("near_gated_free_m2"), 1, "%.3f"), p(v("near_gated_free_traversable"), 100, "%.1f"),
+            p(v("near_ring_gated_free_m2"), 1, "%.3f"), p(v("near_ring_gated_free_traversable"), 100, "%.1f"),
             reasons
         }' "$csv"
     done

@@ -25,6 +25,7 @@
 #include "hazmap/eval/grid_checks.hpp"
 #include "hazmap/eval/plot.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
+#include "hazmap/hazard/wheel_ring.hpp"
 #include "hazmap/io/atomic_file.hpp"
 #include "hazmap/io/calibration_file.hpp"
 #include "hazmap/io/images.hpp"
@@ -473,15 +474,18 @@ void write_summary_csv(const RunEvaluation& ev) {
            fmt(p.fraction(kTruthFree, 0)) + "," + fmt(p.fraction(kTruthFree, 2));
   };
   sum << "frames," << csv_header(false, near) << (seen ? seen_header(near) : "");
-  if (gated)
+  if (gated) {
     for (const char* name : gated_fields) sum << ",near_gated_" << name;
+    for (const char* name : gated_fields) sum << ",near_ring_gated_" << name;
+  }
   sum << '\n';
   for (size_t l = 0; l < ev.layers.size(); ++l)
     sum << ev.frames.size() << ','
         << layer_columns(ev.layers[l], ev.pooled[l], near ? &ev.near_pooled[l] : nullptr,
                          seen ? &ev.seen_pooled[l] : nullptr,
                          seen && near ? &ev.near_seen_pooled[l] : nullptr)
-        << (gated ? gated_row(ev.near_gated_pooled[l]) : "") << '\n';
+        << (gated ? gated_row(ev.near_gated_pooled[l]) + gated_row(ev.near_ring_gated_pooled[l]) : "")
+        << '\n';
   write_file_atomically(out / "summary.csv", sum.str());
 }
 
@@ -543,13 +547,15 @@ void write_metrics_json(const EvaluationOptions& options, const RunEvaluation& e
         j.key("near_seen").begin_object();
         for (const auto& [name, v] : seen_fields(ev.near_seen_pooled[l])) j.key(name).value(v);
         j.end_object();
-        const SeenSums& g = ev.near_gated_pooled[l];
-        j.key("near_gated").begin_object();
-        j.key("free_m2").value(g.area_m2(kTruthFree));
-        j.key("free_traversable").value(g.fraction(kTruthFree, 1));
-        j.key("free_unknown").value(g.fraction(kTruthFree, 0));
-        j.key("free_hazard").value(g.fraction(kTruthFree, 2));
-        j.end_object();
+        for (const auto& [key, g] : {std::pair<const char*, const SeenSums&>{"near_gated", ev.near_gated_pooled[l]},
+                                     {"near_ring_gated", ev.near_ring_gated_pooled[l]}}) {
+          j.key(key).begin_object();
+          j.key("free_m2").value(g.area_m2(kTruthFree));
+          j.key("free_traversable").value(g.fraction(kTruthFree, 1));
+          j.key("free_unknown").value(g.fraction(kTruthFree, 0));
+          j.key("free_hazard").value(g.fraction(kTruthFree, 2));
+          j.end_object();
+        }
       }
     }
     const LayerMetrics last = derive_metrics(ev.sums.back()[l]);
@@ -863,12 +869,19 @@ LateralGate vouching_gate(const Config& config, const HazardParams& hazard_param
 struct SeenCells {
   std::vector<int> index;  ///< per written frame: its last depth frame
   std::optional<SeenMap> seen, footprint, gated, gated_footprint;
+  /// Gated, and so are the wheel ring's samples about it (SPEC 8.2-8.3: a cell's proof
+  /// reads the terrain under the wheels); for the footprint map the whole disc of the
+  /// footprint's radius plus the ring's (every cell under the body, and its ring).
+  std::optional<SeenMap> ring_gated, ring_gated_footprint;
 
   const SeenMap& seen_for(const EvaluatedLayer& L) const {
     return L.gt_dilation_m > 0.0 ? *footprint : *seen;
   }
   const SeenMap& gated_for(const EvaluatedLayer& L) const {
     return L.gt_dilation_m > 0.0 ? *gated_footprint : *gated;
+  }
+  const SeenMap& ring_gated_for(const EvaluatedLayer& L) const {
+    return L.gt_dilation_m > 0.0 ? *ring_gated_footprint : *ring_gated;
   }
 };
 
@@ -881,9 +894,12 @@ SeenCells read_seen_cells(const fs::path& sequence_dir, const GroundTruth& gt,
   s.gated.emplace(gt.height);
   s.seen.emplace(read_seen_map(sequence_dir, gt, config, poses.true_poses(),
                                poses.true_pose_file(), frames, &s.index, gate, &*s.gated));
+  const double ring_m = config.hazard.wheelbase_m / 2.0;  // the classifiers' WheelRing
+  s.ring_gated.emplace(s.gated->with_ring(ring_m, WheelRing::kSamples));
   if (with_footprint) {
     s.footprint.emplace(s.seen->whole_disc(hazard_params.footprint_radius_m));
     s.gated_footprint.emplace(s.gated->whole_disc(hazard_params.footprint_radius_m));
+    s.ring_gated_footprint.emplace(s.gated->whole_disc(hazard_params.footprint_radius_m + ring_m));
   }
   return s;
 }
@@ -1059,6 +1075,9 @@ void FrameScorer::score(
                           L.h_min_m, &near);
           ev.near_gated_pooled[l] += score_seen(layer.hazard, &reasons, truth_for(L),
                                                 seen->gated_for(L), k, T_map_W, L.h_min_m, &near);
+          ev.near_ring_gated_pooled[l] += score_seen(layer.hazard, &reasons, truth_for(L),
+                                                     seen->ring_gated_for(L), k, T_map_W,
+                                                     L.h_min_m, &near);
         }
       } catch (const Error& e) {
         throw Error((frames_dir / name / (L.name + "_*.jdem")).string() + " (frame " + name +
@@ -1115,6 +1134,7 @@ RunEvaluation evaluate_run(const EvaluationOptions& options) {
     if (options.near_enabled()) {
       ev.near_seen_pooled.assign(ev.layers.size(), SeenSums{});
       ev.near_gated_pooled.assign(ev.layers.size(), SeenSums{});
+      ev.near_ring_gated_pooled.assign(ev.layers.size(), SeenSums{});
     }
   }
   const ErrorMapFrames error_frames = error_map_frames(options, ev.frames);

@@ -120,6 +120,36 @@ SeenMap SeenMap::whole_disc(double radius_m) const {
   return out;
 }
 
+SeenMap SeenMap::with_ring(double radius_m, int samples) const {
+  check(radius_m >= 0.0 && std::isfinite(radius_m) && samples >= 1,
+        "seen cells: the ring needs a radius >= 0 and a sample");
+  SeenMap out;
+  out.geometry_ = geometry_;
+  out.rows_ = rows_;
+  out.cols_ = cols_;
+  out.first_ = first_;
+  // Each sample's pixel: the one holding the point radius_m from the pixel's centre
+  // (rounded, as the classifiers' cell_at), off the grid never seen.
+  const double res = geometry_.resolution_m;
+  std::vector<std::pair<int, int>> offsets;
+  for (int k = 0; k < samples; ++k) {
+    const double a = 2.0 * M_PI * k / samples;
+    offsets.emplace_back(static_cast<int>(std::lround(radius_m * std::sin(a) / res)),
+                         static_cast<int>(std::lround(radius_m * std::cos(a) / res)));
+  }
+  for (int r = 0; r < rows_; ++r)
+    for (int c = 0; c < cols_; ++c) {
+      int& f = out.first_[static_cast<size_t>(r) * cols_ + c];
+      for (const auto& [dr, dc] : offsets) {
+        if (f < 0) break;
+        const int rr = r + dr, cc = c + dc;
+        const int g = rr < 0 || cc < 0 || rr >= rows_ || cc >= cols_ ? -1 : first(rr, cc);
+        f = g < 0 ? -1 : std::max(f, g);
+      }
+    }
+  return out;
+}
+
 SeenSums& SeenSums::operator+=(const SeenSums& o) {
   for (int t = 0; t < 3; ++t) {
     for (int l = 0; l < 3; ++l) count[t][l] += o.count[t][l];

@@ -86,6 +86,41 @@ TEST(SeenMap, WholeDiscIsTheLatestFirstSightingWithinTheRadiusAgainstBruteForce)
     }
 }
 
+TEST(SeenMap, WithRingIsTheLatestFirstSightingOverThePixelAndItsRingSamples) {
+  const GroundTruth gt = flat_truth(10, 0.1);
+  const DownCamera cam;
+  SeenMap seen(gt.height);
+  for (int k = 0; k < 10; ++k) {  // frame k sees row 9 - k, but for one pixel
+    cv::Mat depth(10, 10, CV_32FC1, cv::Scalar(kNaNf));
+    for (int u = 0; u < 10; ++u) depth.at<float>(9 - k, u) = 1.0f;
+    if (k == 4) depth.at<float>(9 - k, 7) = kNaNf;  // never seen
+    seen.add_depth(depth, cam.camera, cam.T_W_C, 2.0, k);
+  }
+  // 8 samples 0.2 m out on 0.1 m pixels: 2 pixels along the axes, (1, 1) on the
+  // diagonals (0.141 m, rounded to the pixel holding the point), written out by hand.
+  const int ring[8][2] = {{0, 2}, {1, 1}, {2, 0}, {1, -1}, {0, -2}, {-1, -1}, {-2, 0}, {-1, 1}};
+  const SeenMap with = seen.with_ring(0.2, 8);
+  int never = 0;
+  for (int r = 0; r < 10; ++r)
+    for (int c = 0; c < 10; ++c) {
+      int latest = seen.first(r, c);
+      for (const auto& d : ring) {
+        const int rr = r + d[0], cc = c + d[1];
+        const int f = rr < 0 || cc < 0 || rr >= 10 || cc >= 10 ? -1 : seen.first(rr, cc);
+        latest = latest < 0 || f < 0 ? -1 : std::max(latest, f);
+      }
+      EXPECT_EQ(with.first(r, c), latest) << r << "," << c;
+      never += latest < 0;
+    }
+  // Within 2 pixels of the border, or a ring sample on the pixel never seen: never.
+  // The 6 x 6 interior less (5, 7) itself and the 5 interior pixels whose ring holds it.
+  EXPECT_EQ(never, 100 - 36 + 6);
+  EXPECT_EQ(with.first(5, 5), -1);  // its sample (5, 7)
+  EXPECT_EQ(with.first(4, 4), 7);   // rows 2..6: row 2, seen at frame 7, last
+  EXPECT_THROW(seen.with_ring(-0.1, 8), Error);
+  EXPECT_THROW(seen.with_ring(0.2, 0), Error);
+}
+
 /// The independent count: every GT pixel of a 2 x 2 block shares one 0.2 m map cell, so
 /// the table is a sum over map cells of their seen pixels.
 TEST(SeenConfusion, CountsEqualAHandCountOverMapCells) {

@@ -98,6 +98,10 @@ struct RunEvaluation {
   /// [layer], with --near: over cells seen within the vouching layers' lateral gate
   /// (seen_confusion.hpp, LateralGate).
   std::vector<SeenSums> near_gated_pooled;
+  /// [layer], with --near: over cells seen within the gate together with every GT pixel
+  /// within the wheel ring's radius of them (for the footprint map: the footprint radius
+  /// plus the ring's): the ground a full, measured wheel ring could prove at best.
+  std::vector<SeenSums> near_ring_gated_pooled;
   std::filesystem::path out_dir;
 };
 

@@ -82,6 +82,10 @@ class SeenMap {
   /// The frame from which every pixel within `radius_m` (pixel centres compared, as
   /// dilate_obstacles) of each pixel is seen; -1 where one never is (or lies off the grid).
   SeenMap whole_disc(double radius_m) const;
+  /// The frame from which each pixel and the pixels under `samples` points evenly spaced
+  /// on the circle of `radius_m` about it (a wheel ring's samples, the first at +x) are
+  /// seen; -1 where one never is (or lies off the grid).
+  SeenMap with_ring(double radius_m, int samples) const;
 
   int rows() const { return rows_; }
   int cols() const { return cols_; }
