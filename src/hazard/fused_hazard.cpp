@@ -16,14 +16,15 @@ int fused_cells(double extent_m, double resolution_m) {
 
 void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_height_m,
                         int cells, double resolution_m, double center_x_m, double center_y_m,
-                        DenseGrid& fused, DenseGrid& clearance) {
+                        DenseGrid& fused, DenseGrid& clearance, DenseGrid* clear) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   fused.reset(cells, cells, resolution_m, center_x_m, center_y_m,
               static_cast<float>(HazardClass::unknown));
   clearance.reset(cells, cells, resolution_m, center_x_m, center_y_m, nan);
+  if (clear) clear->reset(cells, cells, resolution_m, center_x_m, center_y_m, 0.0f);
   DirtyRegion all;
   all.add(GridRect::full(cells, cells));
-  fuse(layers, critical_height_m, all, fused, clearance);
+  fuse(layers, critical_height_m, all, fused, clearance, clear);
 }
 
 void HazardFusion::map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused) {
@@ -43,7 +44,8 @@ void HazardFusion::map_layers(const std::vector<FusionInput>& layers, const Dens
 }
 
 void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_height_m,
-                        const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance) {
+                        const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance,
+                        DenseGrid* clear) {
   check(!layers.empty(), "fuse: no layers");
   check(fused.rows == fused.cols, "fuse: the fused grid must be square");
   map_layers(layers, fused);
@@ -58,11 +60,14 @@ void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_
       for (int col = cut.col0; col < cut.col1; ++col) {
         const double inf = std::numeric_limits<double>::infinity();
         double smallest = inf, hazard_cell = inf, proof_cell = inf;
+        bool ring_only = false;
         for (size_t l = 0; l < layers.size(); ++l) {
           const int lr = rows_[l * n + row], lc = cols_[l * n + col];
           if (lr < 0 || lc < 0) continue;
           const DenseGrid& g = *layers[l].hazard;
           const float v = g.at(lr, lc);
+          if (clear && layers[l].ring_only && layers[l].h_min_m <= critical_height_m)
+            ring_only = ring_only || layers[l].ring_only->at(lr, lc) == 1.0f;
           if (v == hazard) {
             hazard_cell = std::min(hazard_cell, g.resolution_m);
           } else if (v == traversable) {
@@ -81,24 +86,31 @@ void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_
           clearance.at(row, col) = static_cast<float>(smallest);
           if (smallest <= critical_height_m) fused.at(row, col) = traversable;
         }
+        if (clear) {
+          const float f = fused.at(row, col);
+          clear->at(row, col) = f == traversable || (f == unknown && ring_only) ? 1.0f : 0.0f;
+        }
       }
     }
   }
 }
 
 void HazardFusion::footprint(const DenseGrid& fused, double radius_m, DenseGrid& footprint,
-                             DenseGrid& hazard_distance) {
+                             DenseGrid& hazard_distance, const DenseGrid* clear) {
   const int rows = fused.rows, cols = fused.cols;
   const double r = fused.resolution_m;
   footprint.reset(rows, cols, r, fused.center_x_m, fused.center_y_m,
                   static_cast<float>(HazardClass::unknown));
   DirtyRegion all;
   all.add(GridRect::full(rows, cols));
-  this->footprint(fused, radius_m, all, footprint, hazard_distance);
+  this->footprint(fused, radius_m, all, footprint, hazard_distance, clear);
 }
 
 void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const DirtyRegion& region,
-                             DenseGrid& footprint, DenseGrid& hazard_distance) {
+                             DenseGrid& footprint, DenseGrid& hazard_distance,
+                             const DenseGrid* clear) {
+  check(!clear || (clear->rows == fused.rows && clear->cols == fused.cols),
+        "footprint: the clear grid must have the fused map's geometry");
   const int rows = fused.rows, cols = fused.cols;
   const double r = fused.resolution_m;
   footprint.center_x_m = fused.center_x_m;
@@ -107,6 +119,11 @@ void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const Dirt
   const size_t cells = fused.values.size();
   const auto hazard = static_cast<float>(HazardClass::hazard);
   const auto unknown = static_cast<float>(HazardClass::unknown);
+  const auto traversable = static_cast<float>(HazardClass::traversable);
+  // What keeps a disc from proving: an unknown cell, or with `clear` one not clear.
+  const auto blocks = [&](int row, int col) {
+    return clear ? clear->at(row, col) != 1.0f : fused.at(row, col) == unknown;
+  };
   hazard_src_.resize(cells);
   for (size_t i = 0; i < cells; ++i) hazard_src_[i] = fused.values[i] == hazard;
   edt_.compute(hazard_src_.data(), rows, cols, hazard_d2_);
@@ -152,7 +169,7 @@ void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const Dirt
       int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
       const int* above = row > sub.row0 ? line - sub_cols : nullptr;
       for (int k = 0; k < sub_cols; ++k)
-        line[k] = fused.at(row, sub.col0 + k) == unknown ? 0 : above ? std::min(none, above[k] + 1) : none;
+        line[k] = blocks(row, sub.col0 + k) ? 0 : above ? std::min(none, above[k] + 1) : none;
     }
     for (int row = sub.row1 - 2; row >= sub.row0; --row) {
       int* line = &near_unknown_[static_cast<size_t>(row - sub.row0) * sub_cols];
@@ -173,7 +190,9 @@ void HazardFusion::footprint(const DenseGrid& fused, double radius_m, const Dirt
         const double dh2 = hazard_d2_[i];
         HazardClass k = HazardClass::traversable;
         if (dh2 <= radius2) k = HazardClass::hazard;
-        else if (unknown_near || double(edge) * edge <= radius2) k = HazardClass::unknown;
+        else if (unknown_near || double(edge) * edge <= radius2 ||
+                 (clear && fused.values[i] != traversable))
+          k = HazardClass::unknown;
         footprint.values[i] = static_cast<float>(k);
       }
     }

@@ -14,6 +14,7 @@ void HazardClassifier::classify(const LayerGrids& g, DenseGrid& hazard, HazardDi
   hazard.reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m,
                static_cast<float>(HazardClass::unknown));
   reset_diagnostics(h, diag);
+  if (ring_only_) ring_only_->reset(h.rows, h.cols, h.resolution_m, h.center_x_m, h.center_y_m, 0.0f);
   classify(g, GridRect::full(h.rows, h.cols), hazard, diag);
 }
 
@@ -23,8 +24,11 @@ void HazardClassifier::explain(const LayerGrids& g, DenseGrid& reasons) {
   DenseGrid hazard;
   HazardDiagnostics diag;
   reasons_ = &reasons;
+  DenseGrid* ring_only = ring_only_;  // the stage's grid is not this pass's
+  ring_only_ = nullptr;
   classify(g, hazard, diag);
   reasons_ = nullptr;
+  ring_only_ = ring_only;
 }
 
 std::unique_ptr<HazardClassifier> make_hazard_classifier(const LayerHazardParams& params) {

@@ -69,6 +69,7 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
   p.fused_extent_m = config.hazard.fused_extent_m.value_or(largest);
   p.finer_proof = config.hazard.finer_proof;
   p.coarse_ring_fill = config.hazard.coarse_ring_fill;
+  p.footprint_centre_ring = config.hazard.footprint_centre_ring;
   return p;
 }
 

@@ -106,6 +106,10 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
   for (size_t i = 0; i < views_.size(); ++i) {
     classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
     fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});
+    if (params_.footprint_centre_ring) {  // views_ never grows: pointers stay valid
+      classifiers_[i]->set_ring_only(&views_[i].ring_only);
+      fusion_inputs_.back().ring_only = &views_[i].ring_only;
+    }
     // views_ never grows: the classifier may keep a pointer to the mask.
     if (params_.layers[i].partial_ring_proof == PartialRingProof::view_edge)
       classifiers_[i]->set_view_mask(&views_[i].viewed);
@@ -182,9 +186,16 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       fill ? whole_scale(map.layer(i + 1).grid().resolution_m(), g.resolution_m()) : 0;
   const bool coarse_whole = fill && (layer_state_[i + 1].whole ||
                                      !layer_state_[i + 1].moved.placed || coarse_scale == 0);
+  const bool ring_only = params_.footprint_centre_ring;
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
+    if (ring_only) {
+      v.ring_only.shift(drow, dcol, 0.0f);
+      v.ring_only.center_x_m = g.center_x_m();
+      v.ring_only.center_y_m = g.center_y_m();
+      before_ring_ = v.ring_only.values;
+    }
   }
   // A per-cell mask of what frames saw moves with the window; cells new to it hold 0.
   const auto follow_window = [&](DenseGrid& mask) {
@@ -296,6 +307,13 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
                                fused_y0, cells)
                         .dilated(1)
                         .clipped(cells, cells));
+  if (ring_only) {  // the fused clear grid reads it too
+    const GridRect changed_ring = changed_bounds(v.ring_only, before_ring_, s.classified);
+    fused_region_.add(image_rect(global_range(changed_ring, window.x0, window.y0, n), scale,
+                                 fused_x0, fused_y0, cells)
+                          .dilated(1)
+                          .clipped(cells, cells));
+  }
   CellRange parts[4];
   for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
     fused_region_.add(
@@ -310,10 +328,11 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   const CellRange window{fused_x0, fused_x0 + cells, fused_y0, fused_y0 + cells};
   const Placement::Move move = fused_at_.move_to(fused_x0, fused_y0, cells);
   const CellRange& old_window = move.old_window;
+  DenseGrid* clear = params_.footprint_centre_ring ? &p.clear : nullptr;
   if (!incremental_ || whole || !move.placed) {
     fusion_.fuse(fusion_inputs_, params_.critical_height_m, cells, r, finest.center_x_m,
-                 finest.center_y_m, p.fused, p.clearance);
-    fusion_.footprint(p.fused, params_.footprint_radius_m, p.footprint, p.hazard_distance);
+                 finest.center_y_m, p.fused, p.clearance, clear);
+    fusion_.footprint(p.fused, params_.footprint_radius_m, p.footprint, p.hazard_distance, clear);
     fused_region_.clear();
     fused_region_.add(GridRect::full(cells, cells));
     footprint_region_ = fused_region_;
@@ -322,6 +341,11 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   p.fused.shift(move.drow, move.dcol, static_cast<float>(HazardClass::unknown));
   p.clearance.shift(move.drow, move.dcol, std::numeric_limits<float>::quiet_NaN());
   p.footprint.shift(move.drow, move.dcol, static_cast<float>(HazardClass::unknown));
+  if (clear) {
+    clear->shift(move.drow, move.dcol, 0.0f);
+    clear->center_x_m = finest.center_x_m;
+    clear->center_y_m = finest.center_y_m;
+  }
   for (DenseGrid* d : {&p.fused, &p.clearance}) {
     d->center_x_m = finest.center_x_m;
     d->center_y_m = finest.center_y_m;
@@ -332,11 +356,14 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   for (int k = 0; k < n_entered; ++k)
     fused_region_.add(image_rect(entered[k], 1, fused_x0, fused_y0, cells).clipped(cells, cells));
   before_ = p.fused.values;
-  fusion_.fuse(fusion_inputs_, params_.critical_height_m, fused_region_, p.fused, p.clearance);
+  if (clear) before_ring_ = clear->values;
+  fusion_.fuse(fusion_inputs_, params_.critical_height_m, fused_region_, p.fused, p.clearance,
+               clear);
 
   // The footprint reads the fused map within its radius, and the map's edge.
   footprint_region_.clear();
   footprint_region_.add(changed_bounds(p.fused, before_, fused_region_));
+  if (clear) footprint_region_.add(changed_bounds(*clear, before_ring_, fused_region_));
   for (int k = 0; k < n_entered; ++k)
     footprint_region_.add(image_rect(entered[k], 1, fused_x0, fused_y0, cells));
   for (int k = 0; k < n_left; ++k)
@@ -344,7 +371,7 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   const int grow = static_cast<int>(std::ceil(params_.footprint_radius_m / r)) + 1;
   footprint_region_.dilate(grow, cells, cells);
   fusion_.footprint(p.fused, params_.footprint_radius_m, footprint_region_, p.footprint,
-                    p.hazard_distance);
+                    p.hazard_distance, clear);
 }
 
 }  // namespace hazmap

@@ -183,6 +183,94 @@ TEST(Footprint, EqualsBruteForceOnRandomMapsAndOnARegion) {
   }
 }
 
+TEST(FusedHazard, ClearCellsAreProvenOrUnknownOnlyForAVouchingLayersRing) {
+  // Fine 4 x 4 at 1 m (h_min 3 cm) with its ring-only flags, coarse 2 x 2 (12 cm) likewise.
+  DenseGrid fine, coarse, fine_ring, coarse_ring, fused, clearance, clear;
+  fine.reset(4, 4, 1.0, 0, 0, kU);
+  coarse.reset(2, 2, 2.0, 0, 0, kU);
+  fine_ring.reset(4, 4, 1.0, 0, 0, 0.0f);
+  coarse_ring.reset(2, 2, 2.0, 0, 0, 0.0f);
+  fine.at(0, 0) = kT;
+  fine_ring.at(0, 1) = 1.0f;  // unknown for its ring only: clear
+  fine_ring.at(0, 2) = 1.0f;
+  fine.at(0, 2) = kH;         // (a flag on a hazard cell cannot make it clear)
+  coarse_ring.at(1, 0) = 1.0f;  // the coarse layer does not vouch: not clear
+  HazardFusion fusion;
+  fusion.fuse({{&fine, 0.03, &fine_ring}, {&coarse, 0.12, &coarse_ring}}, 0.03, 4, 1.0, 0, 0,
+              fused, clearance, &clear);
+  EXPECT_EQ(clear.at(0, 0), 1.0f);
+  EXPECT_EQ(clear.at(0, 1), 1.0f);
+  EXPECT_EQ(fused.at(0, 1), kU);  // the fused map itself is unchanged
+  EXPECT_EQ(clear.at(0, 2), 0.0f);
+  EXPECT_EQ(clear.at(2, 0), 0.0f);
+  EXPECT_EQ(clear.at(3, 3), 0.0f);
+  // A region refuses only its cells.
+  std::fill(clear.values.begin(), clear.values.end(), -1.0f);
+  DirtyRegion region;
+  region.add({0, 1, 0, 2});
+  fusion.fuse({{&fine, 0.03, &fine_ring}, {&coarse, 0.12, &coarse_ring}}, 0.03, region, fused,
+              clearance, &clear);
+  EXPECT_EQ(clear.at(0, 1), 1.0f);
+  EXPECT_EQ(clear.at(1, 1), -1.0f);
+}
+
+TEST(Footprint, WithClearCellsTheCentreMustBeProvenAndEveryCellInTheDiscClear) {
+  // Brute force on random maps: hazard within the radius; else traversable iff the centre
+  // is traversable, every cell within the radius is clear and the edge is beyond it.
+  std::mt19937 rng(12);
+  for (const double radius_m : {0.03, 0.055, 0.15}) {
+    DenseGrid fused, clear;
+    fused.reset(45, 38, 0.01, 0.3, -0.2, kT);
+    clear.reset(45, 38, 0.01, 0.3, -0.2, 0.0f);
+    std::discrete_distribution<int> kind({0.85, 0.13, 0.02});  // traversable, unknown, hazard
+    std::bernoulli_distribution ring_only(0.8);                 // an unknown cell's flag
+    for (size_t i = 0; i < fused.values.size(); ++i) {
+      fused.values[i] = std::array<float, 3>{kT, kU, kH}[kind(rng)];
+      clear.values[i] = fused.values[i] == kT || (fused.values[i] == kU && ring_only(rng)) ? 1.0f : 0.0f;
+    }
+    HazardFusion fusion;
+    DenseGrid footprint, plain, distance;
+    fusion.footprint(fused, radius_m, footprint, distance, &clear);
+    fusion.footprint(fused, radius_m, plain, distance);
+    const double rc = radius_m / 0.01 + std::sqrt(0.5), radius2 = rc * rc * (1.0 + 1e-9);
+    long more = 0;
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col) {
+        bool hazard = false, blocked = false;
+        for (int r = 0; r < fused.rows; ++r)
+          for (int c = 0; c < fused.cols; ++c) {
+            if (double(r - row) * (r - row) + double(c - col) * (c - col) > radius2) continue;
+            hazard |= fused.at(r, c) == kH;
+            blocked |= clear.at(r, c) != 1.0f;
+          }
+        const int edge = std::min({row + 1, fused.rows - row, col + 1, fused.cols - col});
+        blocked |= double(edge) * edge <= radius2 || fused.at(row, col) != kT;
+        const float want = hazard ? kH : blocked ? kU : kT;
+        ASSERT_EQ(footprint.at(row, col), want) << radius_m << " at " << row << "," << col;
+        // Never less than the plain rule proves, and the same hazards.
+        if (plain.at(row, col) == kT) {
+          ASSERT_EQ(want, kT);
+        }
+        ASSERT_EQ(plain.at(row, col) == kH, want == kH);
+        more += want == kT && plain.at(row, col) != kT;
+      }
+    if (radius_m < 0.1) {  // at 15 cm nearly every disc holds a hazard
+      EXPECT_GT(more, 0) << radius_m;
+    }
+    // On a region: the same values there, the other cells untouched.
+    DenseGrid part = footprint;
+    std::fill(part.values.begin(), part.values.end(), -1.0f);
+    DirtyRegion region;
+    region.add({3, 11, 30, 38});
+    region.add({20, 45, 0, 9});
+    fusion.footprint(fused, radius_m, region, part, distance, &clear);
+    for (int row = 0; row < fused.rows; ++row)
+      for (int col = 0; col < fused.cols; ++col)
+        ASSERT_EQ(part.at(row, col), region.contains(row, col) ? footprint.at(row, col) : -1.0f)
+            << radius_m << " at " << row << "," << col;
+  }
+}
+
 TEST(Footprint, EveryPointWithinTheRadiusLiesInACellTheFootprintCounted) {
   // The footprint's promise to a planner: a traversable footprint cell has no hazard or
   // unknown cell anywhere within the radius, whatever the fused map's resolution. Random

@@ -82,6 +82,11 @@ Config variant(const std::string& name) {
     c.hazard.coarse_ring_fill = false;
     return c;
   }
+  if (name == "thesis_ccm_centre_ring") {  // footprint from the centre's ring (CCM only)
+    Config c = load_config(testing::source_dir() / "config/thesis_ccm.yaml");
+    c.hazard.footprint_centre_ring = true;
+    return c;
+  }
   if (name == "thesis_pwc_decay") {  // pooled OMG layers; decay scales weights only
     Config c = load_config(testing::source_dir() / "config/thesis_pwc.yaml");
     c.rules.omg.decay = 0.9;
@@ -118,6 +123,7 @@ TEST_P(IncrementalHazards, EqualToAWholePassInEveryFrame) {
       EXPECT_TRUE(identical(a.diagnostics.kernel_range, b.diagnostics.kernel_range));
       EXPECT_TRUE(identical(a.diagnostics.kernel_sigma, b.diagnostics.kernel_sigma));
       EXPECT_TRUE(identical(a.diagnostics.kernel_fill, b.diagnostics.kernel_fill));
+      EXPECT_TRUE(identical(a.ring_only, b.ring_only));
       if (f > 0) {
         classified += incremental.hazard_stage().classified(i).area();
         cells += long(a.hazard.rows) * a.hazard.cols;
@@ -128,6 +134,7 @@ TEST_P(IncrementalHazards, EqualToAWholePassInEveryFrame) {
     EXPECT_TRUE(identical(a.fused, b.fused)) << "fused";
     EXPECT_TRUE(identical(a.clearance, b.clearance)) << "clearance";
     EXPECT_TRUE(identical(a.footprint, b.footprint)) << "footprint";
+    EXPECT_TRUE(identical(a.clear, b.clear)) << "clear";
     EXPECT_TRUE(identical(a.hazard_distance, b.hazard_distance)) << "hazard distance";
   }
   // Something was left out, except where every layer's exports change every frame (pose
@@ -141,7 +148,7 @@ TEST_P(IncrementalHazards, EqualToAWholePassInEveryFrame) {
 
 INSTANTIATE_TEST_SUITE_P(Configs, IncrementalHazards,
                          ::testing::Values("cadre_flight", "cadre_flight_static", "cadre_flight_no_fill",
-                                           "thesis_ccm_fill",
+                                           "thesis_ccm_fill", "thesis_ccm_centre_ring",
                                            "cadre_flight_pose", "thesis_pwc_decay", "thesis_ccm",
                                            "default"));
 

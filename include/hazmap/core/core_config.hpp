@@ -140,6 +140,10 @@ struct HazardConfig {
   /// Wheel ring (issue 34): a sample this layer has not measured is taken from the next
   /// coarser layer's plane where that layer measured it (HazardStage, CoarseRingFill).
   bool coarse_ring_fill = false;
+  /// Footprint map (issue 34): a cell under the body that is unknown only because its own
+  /// wheel ring was not measured (every other test proved it) counts as clear; the
+  /// centre's cell must be proven, its ring included (HazardFusion::footprint).
+  bool footprint_centre_ring = false;
   /// Hole-free test (map.layers.N.hole_free_coverage): a pixel's disparity within this of
   /// the cell's level plane [px] saw its ground; off by more, the frame does not judge
   /// that quarter of the cell.

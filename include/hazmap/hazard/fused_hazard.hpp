@@ -26,6 +26,8 @@ namespace hazmap {
 struct FusionInput {
   const DenseGrid* hazard = nullptr;  ///< HazardClass values
   double h_min_m = 0.0;
+  /// 1 where the layer's cell is unknown only for its wheel ring (set_ring_only), or null.
+  const DenseGrid* ring_only = nullptr;
 };
 
 class HazardFusion {
@@ -39,23 +41,31 @@ class HazardFusion {
 
   /// Fuses `layers` onto a `cells` x `cells` grid of resolution `resolution_m` centred
   /// at (center_x, center_y). Buffers are reused.
+  /// With `clear` (hazard.footprint_centre_ring) also 1 there where the fused cell is
+  /// traversable, or unknown and some vouching layer's cell is unknown only for its wheel
+  /// ring (FusionInput::ring_only); 0 elsewhere.
   void fuse(const std::vector<FusionInput>& layers, double critical_height_m, int cells,
             double resolution_m, double center_x_m, double center_y_m, DenseGrid& fused,
-            DenseGrid& clearance);
-  /// Re-fuses the cells of `region` only (SPEC 8.6); `fused` and `clearance` must have
-  /// their geometry for this frame already and keep their other cells.
+            DenseGrid& clearance, DenseGrid* clear = nullptr);
+  /// Re-fuses the cells of `region` only (SPEC 8.6); `fused` and `clearance` (and `clear`)
+  /// must have their geometry for this frame already and keep their other cells.
   void fuse(const std::vector<FusionInput>& layers, double critical_height_m,
-            const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance);
+            const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance,
+            DenseGrid* clear = nullptr);
 
-  /// Footprint map and hazard distance from a fused map.
+  /// Footprint map and hazard distance from a fused map. With `clear`
+  /// (hazard.footprint_centre_ring): traversable where the centre's cell is traversable
+  /// and every cell in the disc is clear (the wheels stand on the centre's ring, which
+  /// the centre's proof measured; a body cell needs its own tests, not its own ring).
   void footprint(const DenseGrid& fused, double radius_m, DenseGrid& footprint,
-                 DenseGrid& hazard_distance);
+                 DenseGrid& hazard_distance, const DenseGrid* clear = nullptr);
   /// The footprint of the cells of `region` only (SPEC 8.6; `footprint` must have the
   /// fused map's geometry and keeps its other cells) and the hazard distance of every
   /// cell: an incremental distance transform would not be simple. Whether an unknown
   /// cell lies within the radius is found on each rectangle grown by the radius.
   void footprint(const DenseGrid& fused, double radius_m, const DirtyRegion& region,
-                 DenseGrid& footprint, DenseGrid& hazard_distance);
+                 DenseGrid& footprint, DenseGrid& hazard_distance,
+                 const DenseGrid* clear = nullptr);
 
  private:
   bool finer_proof_ = false;

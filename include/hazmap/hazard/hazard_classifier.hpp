@@ -69,6 +69,12 @@ class HazardClassifier {
   /// Must outlive the classifier's use.
   void set_view_mask(const DenseGrid* viewed) { viewed_ = viewed; }
 
+  /// hazard.footprint_centre_ring: classify() also writes into `ring_only` (the layer's
+  /// geometry, kept beside `hazard` and moved with it) 1 where a cell is unknown only
+  /// because its wheel ring lacked samples, 0 elsewhere; null: nothing. Must outlive the
+  /// classifier's use.
+  void set_ring_only(DenseGrid* ring_only) { ring_only_ = ring_only; }
+
   /// A diagnostic pass (issue 34; `output.unknown_reasons`, for `hazmap evaluate`): a
   /// whole-layer classification of `grids` that writes into `reasons` (given the layer's
   /// geometry) the UnknownReason bits of each unknown cell, 0 at known cells. Separate
@@ -77,12 +83,21 @@ class HazardClassifier {
 
  protected:
   /// Records a cell's reasons when explain() asked for them.
-  void record(int row, int col, const Evidence& ev) {
+  /// And whether only the ring kept it unknown (set_ring_only), which a family may
+  /// narrow (`ring_only_ok`: its own check of the cell against its neighbours).
+  void record(int row, int col, const Evidence& ev, bool ring_only_ok = true) {
     if (reasons_) reasons_->at(row, col) = ev.result() == HazardClass::unknown ? ev.reasons() : 0;
+    if (ring_only_)
+      ring_only_->at(row, col) = ring_only_ok && unknown_for_ring_only(ev) ? 1.0f : 0.0f;
   }
   void record(int row, int col, std::uint16_t reasons) {
     if (reasons_) reasons_->at(row, col) = reasons;
+    if (ring_only_) ring_only_->at(row, col) = 0.0f;
   }
+  static bool unknown_for_ring_only(const Evidence& ev) {
+    return ev.result() == HazardClass::unknown && ev.reasons() == kReasonRingIncomplete;
+  }
+  bool wants_ring_only() const { return ring_only_ != nullptr; }
 
   /// Gives the diagnostics the geometry of `height` before a whole-layer classification.
   virtual void reset_diagnostics(const DenseGrid& /*height*/, HazardDiagnostics& /*diag*/) const {}
@@ -90,6 +105,7 @@ class HazardClassifier {
   LayerHazardParams params_;
   WheelRing ring_;
   DenseGrid* reasons_ = nullptr;  ///< set during explain() only
+  DenseGrid* ring_only_ = nullptr;  ///< set_ring_only()
   const RingFallback* fallback_ = nullptr;
   const DenseGrid* viewed_ = nullptr;
 };

@@ -71,6 +71,7 @@ struct HazardParams {
   double fused_extent_m = 10.24;          ///< side of the fused and footprint maps
   bool finer_proof = false;               ///< hazard.finer_proof (HazardFusion)
   bool coarse_ring_fill = false;          ///< hazard.coarse_ring_fill (HazardStage)
+  bool footprint_centre_ring = false;     ///< hazard.footprint_centre_ring (HazardFusion)
 };
 
 /// From the map core's configuration; a run's Config (io/config.hpp) is one.

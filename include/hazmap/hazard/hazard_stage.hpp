@@ -53,6 +53,9 @@ struct LayerView {
   /// Which cells a frame's disparity image saw whole (0, kSeenWhole, kHoleSeen;
   /// HoleMarker); kept only with map.layers.N.hole_free_coverage (empty otherwise).
   DenseGrid seen_whole;
+  /// 1 where a cell is unknown only for its wheel ring (HazardClassifier::set_ring_only);
+  /// kept only with hazard.footprint_centre_ring (empty otherwise).
+  DenseGrid ring_only;
 };
 
 /// The maps a planner consumes (SPEC 8.4, 8.5), at the finest layer's resolution.
@@ -61,6 +64,9 @@ struct PlannerMaps {
   DenseGrid clearance;        ///< [m], NaN where no layer proves the cell traversable
   DenseGrid footprint;        ///< HazardClass values for the rover's centre
   DenseGrid hazard_distance;  ///< [m] to the nearest fused hazard cell, capped
+  /// hazard.footprint_centre_ring: 1 where a fused cell is clear under the rover's body
+  /// (HazardFusion::fuse); empty otherwise.
+  DenseGrid clear;
 };
 
 class HazardStage {
@@ -136,6 +142,7 @@ class HazardStage {
   DirtyRegion fused_region_, footprint_region_;
   DirtyRegion scratch_;           ///< a layer's changed cells before growing
   std::vector<float> before_;     ///< a grid's values before this run's recomputation
+  std::vector<float> before_ring_;  ///< the same for a layer's ring_only / the fused clear grid
 };
 
 }  // namespace hazmap

@@ -87,6 +87,11 @@ class PlaneSurface {
     return s;
   }
 
+  /// The plane of evaluable cell (row, col) at (x, y), as plane_sample.
+  RingSample plane_of(const LayerGrids& g, int row, int col, double x_m, double y_m) const {
+    return plane_sample(g, row, col, x_m, y_m);
+  }
+
  private:
   /// The evaluable cell (row, col)'s plane at (x, y) with its prediction variance: the
   /// least-squares res_var / n (1 + d^T C^-1 d), d from the cell centre (an evaluable
@@ -203,7 +208,8 @@ class PlaneFamilyClassifier final : public HazardClassifier {
           tests_.run(cell, ev);
         }
         hazard.at(row, col) = static_cast<float>(ev.result());
-        record(row, col, ev);
+        record(row, col, ev,
+               !wants_ring_only() || !unknown_for_ring_only(ev) || agrees_with_neighbours(g, cell));
       }
   }
 
@@ -221,6 +227,28 @@ class PlaneFamilyClassifier final : public HazardClassifier {
   }
 
  private:
+  /// hazard.footprint_centre_ring: a cell whose own tests proved it but whose wheel ring
+  /// lacked samples counts as clear under the rover's body only if no step of h_min
+  /// hides between it and a neighbour (two planar cells, each below the face limit, may
+  /// still meet at a step on their common edge): the cell's height lies within h_min,
+  /// k sigma included, of every evaluable 8-neighbour's plane at its centre.
+  bool agrees_with_neighbours(const LayerGrids& g, const PlaneCell& cell) const {
+    if (!cell.evaluable) return false;
+    const DenseGrid& h = g.height;
+    const double x = h.x_of_col(cell.col), y = h.y_of_row(cell.row);
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int r = cell.row + dr, c = cell.col + dc;
+        if ((dr == 0 && dc == 0) || r < 0 || c < 0 || r >= h.rows || c >= h.cols) continue;
+        if (g.evaluable.at(r, c) != 1.0f) continue;
+        const RingSample s = surface_.plane_of(g, r, c, x, y);
+        if (!s.exact) return false;
+        const double sigma = std::sqrt(cell.step_variance() + s.var_m2);
+        if (std::abs(cell.z - s.z_m) + params_.k_sigma * sigma > params_.h_min_m) return false;
+      }
+    return true;
+  }
+
   PlaneSurface surface_;
   Tests tests_;
   FewTests few_tests_;
