@@ -186,16 +186,9 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       fill ? whole_scale(map.layer(i + 1).grid().resolution_m(), g.resolution_m()) : 0;
   const bool coarse_whole = fill && (layer_state_[i + 1].whole ||
                                      !layer_state_[i + 1].moved.placed || coarse_scale == 0);
-  const bool ring_only = params_.footprint_centre_ring;
   if (placed) {
     v.hazard.shift(drow, dcol, static_cast<float>(HazardClass::unknown));
     before_ = v.hazard.values;
-    if (ring_only) {
-      v.ring_only.shift(drow, dcol, 0.0f);
-      v.ring_only.center_x_m = g.center_x_m();
-      v.ring_only.center_y_m = g.center_y_m();
-      before_ring_ = v.ring_only.values;
-    }
   }
   // A per-cell mask of what frames saw moves with the window; cells new to it hold 0.
   const auto follow_window = [&](DenseGrid& mask) {
@@ -207,6 +200,12 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
       mask.reset(n, n, g.resolution_m(), g.center_x_m(), g.center_y_m(), 0.0f);
     }
   };
+  // The ring-only flags (footprint_centre_ring) move with the window like the hazard.
+  const bool ring_only = params_.footprint_centre_ring;
+  if (ring_only) {
+    follow_window(v.ring_only);
+    before_ring_ = v.ring_only.values;
+  }
   // The view mask moves with the window (cells new to it: never looked at), then takes
   // this frame's view; the cells it newly reached are re-classified below.
   GridRect newly_viewed;
@@ -302,18 +301,15 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
   // resolutions whole multiples; otherwise the fused map is redone whole).
   const CellIndex scale = whole_scale(g.resolution_m(), map.layer(0).grid().resolution_m());
   if (scale == 0) return false;
-  const GridRect changed = changed_bounds(v.hazard, before_, s.classified);
-  fused_region_.add(image_rect(global_range(changed, window.x0, window.y0, n), scale, fused_x0,
-                               fused_y0, cells)
-                        .dilated(1)
-                        .clipped(cells, cells));
-  if (ring_only) {  // the fused clear grid reads it too
-    const GridRect changed_ring = changed_bounds(v.ring_only, before_ring_, s.classified);
-    fused_region_.add(image_rect(global_range(changed_ring, window.x0, window.y0, n), scale,
-                                 fused_x0, fused_y0, cells)
+  const auto refuse = [&](const GridRect& changed) {
+    fused_region_.add(image_rect(global_range(changed, window.x0, window.y0, n), scale, fused_x0,
+                                 fused_y0, cells)
                           .dilated(1)
                           .clipped(cells, cells));
-  }
+  };
+  refuse(changed_bounds(v.hazard, before_, s.classified));
+  // The fused clear grid reads the ring-only flags too.
+  if (ring_only) refuse(changed_bounds(v.ring_only, before_ring_, s.classified));
   CellRange parts[4];
   for (int k = 0, m = difference(old_window, window, parts); k < m; ++k)
     fused_region_.add(
