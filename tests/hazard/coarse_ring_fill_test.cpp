@@ -6,9 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
-#include <random>
 
+#include "hazard/analytic_points.hpp"
 #include "hazmap/hazard/coarse_ring_fill.hpp"
 #include "hazmap/hazard/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
@@ -35,32 +34,18 @@ Config two_layers(bool fill) {
   return c;
 }
 
-using Surface = std::function<double(double, double)>;
-using Visible = std::function<bool(double, double)>;
+using testing::Surface;
+using testing::Visible;
 
-/// Points every 3 mm (jittered) on `h` with 0.5 mm noise where `visible`, mapped and
-/// classified by a whole-pass hazard stage.
+/// Points on `h` where `visible` (analytic_points.hpp), mapped and classified by a
+/// whole-pass hazard stage.
 struct Mapped {
   LayerStack stack;
   HazardStage stage;
   Mapped(const Config& config, const Surface& h, const Visible& visible)
       : stack(config.map, config.rules), stage(resolve_hazard_params(config), false) {
-    std::mt19937_64 rng(11);
-    std::normal_distribution<double> noise(0.0, 0.0005);
-    std::uniform_real_distribution<double> jitter(-0.5, 0.5);
-    PointCloud cloud;
-    for (double y = -0.6; y < 0.6; y += 0.003)
-      for (double x = -0.6; x < 0.6; x += 0.003) {
-        const double px = x + jitter(rng) * 0.003, py = y + jitter(rng) * 0.003;
-        if (!visible(px, py)) continue;
-        Measurement m{};
-        m.p_W = Eigen::Vector3f(float(px), float(py), float(h(px, py) + noise(rng)));
-        m.cov_xx = m.cov_yy = 1e-6f;
-        m.cov_zz = float(0.0005 * 0.0005);
-        cloud.push_back(m);
-      }
     stack.begin_frame(0.001, 0.001);
-    stack.insert(MapPoints(cloud));
+    stack.insert(MapPoints(testing::analytic_points(h, visible, 11)));
     stage.run(stack);
   }
   float fine_class_at(double x, double y) const {

@@ -4,10 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <functional>
-#include <random>
-
+#include "hazard/analytic_points.hpp"
 #include "hazmap/hazard/hazard_stage.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 
@@ -30,31 +27,18 @@ Config one_layer(bool centre_ring) {
   return c;
 }
 
-using Surface = std::function<double(double, double)>;
+using testing::Surface;
 
-/// Points every 3 mm (jittered) on `h` with 0.5 mm noise for x < kSeenTo, classified by
-/// a whole-pass hazard stage.
+/// Points on `h` for x < kSeenTo (analytic_points.hpp), classified by a whole-pass
+/// hazard stage.
 struct Mapped {
   LayerStack stack;
   HazardStage stage;
   Mapped(const Config& config, const Surface& h)
       : stack(config.map, config.rules), stage(resolve_hazard_params(config), false) {
-    std::mt19937_64 rng(5);
-    std::normal_distribution<double> noise(0.0, 0.0005);
-    std::uniform_real_distribution<double> jitter(-0.5, 0.5);
-    PointCloud cloud;
-    for (double y = -0.6; y < 0.6; y += 0.003)
-      for (double x = -0.6; x < kSeenTo; x += 0.003) {
-        const double px = x + jitter(rng) * 0.003, py = y + jitter(rng) * 0.003;
-        if (px >= kSeenTo) continue;
-        Measurement m{};
-        m.p_W = Eigen::Vector3f(float(px), float(py), float(h(px, py) + noise(rng)));
-        m.cov_xx = m.cov_yy = 1e-6f;
-        m.cov_zz = float(0.0005 * 0.0005);
-        cloud.push_back(m);
-      }
     stack.begin_frame(0.0, 0.0);
-    stack.insert(MapPoints(cloud));
+    stack.insert(MapPoints(
+        testing::analytic_points(h, [](double x, double) { return x < kSeenTo; }, 5)));
     stage.run(stack);
   }
   static float at(const DenseGrid& g, double x, double y) {
