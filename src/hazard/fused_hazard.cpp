@@ -43,55 +43,115 @@ void HazardFusion::map_layers(const std::vector<FusionInput>& layers, const Dens
   }
 }
 
+void HazardFusion::set_proof_margin(double margin_m, double resolution_m) {
+  check(margin_m >= 0 && resolution_m > 0, "fuse: the proof margin must be >= 0");
+  margin_offsets_.clear();
+  margin_cells_ = 0;
+  margin_resolution_m_ = resolution_m;
+  if (margin_m <= 0) return;
+  const double m = margin_m / resolution_m * (1.0 + 1e-9);
+  margin_cells_ = static_cast<int>(std::floor(m));
+  for (int dr = -margin_cells_; dr <= margin_cells_; ++dr)
+    for (int dc = -margin_cells_; dc <= margin_cells_; ++dc)
+      if ((dr != 0 || dc != 0) && double(dr) * dr + double(dc) * dc <= m * m)
+        margin_offsets_.push_back({dr, dc});
+}
+
 void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_height_m,
                         const DirtyRegion& region, DenseGrid& fused, DenseGrid& clearance,
                         DenseGrid* clear) {
   check(!layers.empty(), "fuse: no layers");
   check(fused.rows == fused.cols, "fuse: the fused grid must be square");
+  check(margin_offsets_.empty() ||
+            std::abs(fused.resolution_m - margin_resolution_m_) <= 1e-9 * margin_resolution_m_,
+        "fuse: the proof margin was set for another resolution");
   map_layers(layers, fused);
   const size_t n = static_cast<size_t>(fused.rows);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const auto hazard = static_cast<float>(HazardClass::hazard);
   const auto traversable = static_cast<float>(HazardClass::traversable);
   const auto unknown = static_cast<float>(HazardClass::unknown);
-  for (const GridRect& rect : region) {
-    const GridRect cut = rect.clipped(fused.rows, fused.cols);
-    for (int row = cut.row0; row < cut.row1; ++row) {
-      for (int col = cut.col0; col < cut.col1; ++col) {
-        const double inf = std::numeric_limits<double>::infinity();
-        double smallest = inf, hazard_cell = inf, proof_cell = inf;
-        bool ring_only = false;
-        for (size_t l = 0; l < layers.size(); ++l) {
-          const int lr = rows_[l * n + row], lc = cols_[l * n + col];
-          if (lr < 0 || lc < 0) continue;
-          const DenseGrid& g = *layers[l].hazard;
-          const float v = g.at(lr, lc);
-          if (clear && layers[l].ring_only && layers[l].h_min_m <= critical_height_m)
-            ring_only = ring_only || layers[l].ring_only->at(lr, lc) == 1.0f;
-          if (v == hazard) {
-            hazard_cell = std::min(hazard_cell, g.resolution_m);
-          } else if (v == traversable) {
-            smallest = std::min(smallest, layers[l].h_min_m);
-            if (layers[l].h_min_m <= critical_height_m) proof_cell = std::min(proof_cell, g.resolution_m);
-          }
-        }
-        // Any layer's hazard, unless (finer_proof) a finer vouching layer proves the cell.
-        const bool is_hazard =
-            std::isfinite(hazard_cell) && (!finer_proof_ || hazard_cell <= proof_cell);
-        fused.at(row, col) = unknown;
-        clearance.at(row, col) = nan;
-        if (is_hazard) {
-          fused.at(row, col) = hazard;
-        } else if (std::isfinite(smallest)) {
-          clearance.at(row, col) = static_cast<float>(smallest);
-          if (smallest <= critical_height_m) fused.at(row, col) = traversable;
-        }
-        if (clear) {
-          const float f = fused.at(row, col);
-          clear->at(row, col) = f == traversable || (f == unknown && ring_only) ? 1.0f : 0.0f;
-        }
+  // One cell from the layers: its class, clearance and whether a vouching layer holds it
+  // unknown only for its wheel ring.
+  const auto fuse_cell = [&](int row, int col) {
+    const double inf = std::numeric_limits<double>::infinity();
+    double smallest = inf, hazard_cell = inf, proof_cell = inf;
+    bool ring_only = false;
+    for (size_t l = 0; l < layers.size(); ++l) {
+      const int lr = rows_[l * n + row], lc = cols_[l * n + col];
+      if (lr < 0 || lc < 0) continue;
+      const DenseGrid& g = *layers[l].hazard;
+      const float v = g.at(lr, lc);
+      if (clear && layers[l].ring_only && layers[l].h_min_m <= critical_height_m)
+        ring_only = ring_only || layers[l].ring_only->at(lr, lc) == 1.0f;
+      if (v == hazard) {
+        hazard_cell = std::min(hazard_cell, g.resolution_m);
+      } else if (v == traversable) {
+        smallest = std::min(smallest, layers[l].h_min_m);
+        if (layers[l].h_min_m <= critical_height_m) proof_cell = std::min(proof_cell, g.resolution_m);
       }
     }
+    // Any layer's hazard, unless (finer_proof) a finer vouching layer proves the cell.
+    const bool is_hazard =
+        std::isfinite(hazard_cell) && (!finer_proof_ || hazard_cell <= proof_cell);
+    FusedCell c{unknown, nan, ring_only};
+    if (is_hazard) {
+      c.cls = hazard;
+    } else if (std::isfinite(smallest)) {
+      c.clearance = static_cast<float>(smallest);
+      if (smallest <= critical_height_m) c.cls = traversable;
+    }
+    return c;
+  };
+  const auto store = [&](int row, int col, const FusedCell& c, bool hazard_near) {
+    // Within the proof margin of a hazard nothing is proven (set_proof_margin).
+    const bool demoted = hazard_near && c.cls == traversable;
+    fused.at(row, col) = demoted ? unknown : c.cls;
+    clearance.at(row, col) = demoted ? nan : c.clearance;
+    if (clear) {
+      const float f = fused.at(row, col);
+      clear->at(row, col) =
+          f == traversable || (f == unknown && c.ring_only && !hazard_near) ? 1.0f : 0.0f;
+    }
+  };
+  for (const GridRect& rect : region) {
+    const GridRect cut = rect.clipped(fused.rows, fused.cols);
+    if (cut.empty()) continue;
+    if (margin_offsets_.empty()) {
+      for (int row = cut.row0; row < cut.row1; ++row)
+        for (int col = cut.col0; col < cut.col1; ++col) store(row, col, fuse_cell(row, col), false);
+      continue;
+    }
+    // With a margin: the rectangle grown by it first (hazards beside the rectangle count),
+    // then each cell with its neighbours' classes.
+    const GridRect grown = cut.dilated(margin_cells_).clipped(fused.rows, fused.cols);
+    const int gcols = grown.col1 - grown.col0;
+    margin_cls_.resize(static_cast<size_t>(grown.area()));
+    margin_fused_.resize(static_cast<size_t>(cut.area()));
+    for (int row = grown.row0; row < grown.row1; ++row)
+      for (int col = grown.col0; col < grown.col1; ++col) {
+        const FusedCell c = fuse_cell(row, col);
+        margin_cls_[static_cast<size_t>(row - grown.row0) * gcols + (col - grown.col0)] = c.cls;
+        if (cut.contains(row, col))
+          margin_fused_[static_cast<size_t>(row - cut.row0) * (cut.col1 - cut.col0) +
+                            (col - cut.col0)] = c;
+      }
+    for (int row = cut.row0; row < cut.row1; ++row)
+      for (int col = cut.col0; col < cut.col1; ++col) {
+        bool near = false;
+        for (const auto& o : margin_offsets_) {
+          const int r = row + o[0], c = col + o[1];
+          if (r < grown.row0 || r >= grown.row1 || c < grown.col0 || c >= grown.col1) continue;
+          if (margin_cls_[static_cast<size_t>(r - grown.row0) * gcols + (c - grown.col0)] == hazard) {
+            near = true;
+            break;
+          }
+        }
+        store(row, col,
+              margin_fused_[static_cast<size_t>(row - cut.row0) * (cut.col1 - cut.col0) +
+                                (col - cut.col0)],
+              near);
+      }
   }
 }
 

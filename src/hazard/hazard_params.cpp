@@ -70,6 +70,7 @@ HazardParams resolve_hazard_params(const CoreConfig& config) {
   p.finer_proof = config.hazard.finer_proof;
   p.coarse_ring_fill = config.hazard.coarse_ring_fill;
   p.footprint_centre_ring = config.hazard.footprint_centre_ring;
+  p.proof_margin_m = config.hazard.proof_margin_m;
   return p;
 }
 

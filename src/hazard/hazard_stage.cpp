@@ -103,6 +103,8 @@ HazardStage::HazardStage(const HazardParams& params, bool incremental)
       views_(params.layers.size()),
       layer_state_(params.layers.size()) {
   fusion_.set_finer_proof(params.finer_proof);
+  if (!params.layers.empty())
+    fusion_.set_proof_margin(params.proof_margin_m, params.layers.front().resolution_m);
   for (size_t i = 0; i < views_.size(); ++i) {
     classifiers_.push_back(make_hazard_classifier(params_.layers[i]));
     fusion_inputs_.push_back({&views_[i].hazard, params_.layers[i].h_min_m});
@@ -351,6 +353,13 @@ void HazardStage::run_planner(bool whole, CellIndex fused_x0, CellIndex fused_y0
   const int n_left = difference(old_window, window, left);
   for (int k = 0; k < n_entered; ++k)
     fused_region_.add(image_rect(entered[k], 1, fused_x0, fused_y0, cells).clipped(cells, cells));
+  // A cell's proof reads the hazards within the proof margin: re-fuse that far around
+  // every change, and beside the strips that left (a hazard there no longer counts).
+  if (const int m = fusion_.proof_margin_cells(); m > 0) {
+    for (int k = 0; k < n_left; ++k)
+      fused_region_.add(image_rect(left[k], 1, fused_x0, fused_y0, cells).dilated(m).clipped(cells, cells));
+    fused_region_.dilate(m, cells, cells);
+  }
   before_ = p.fused.values;
   if (clear) before_ring_ = clear->values;
   fusion_.fuse(fusion_inputs_, params_.critical_height_m, fused_region_, p.fused, p.clearance,

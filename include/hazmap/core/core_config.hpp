@@ -144,6 +144,9 @@ struct HazardConfig {
   /// wheel ring was not measured (every other test proved it) counts as clear; the
   /// centre's cell must be proven, its ring included (HazardFusion::footprint).
   bool footprint_centre_ring = false;
+  /// Fused map (issue 34): no proof within this distance [m] of a fused hazard cell
+  /// (HazardFusion::set_proof_margin); 0: off.
+  double proof_margin_m = 0.0;
   /// Hole-free test (map.layers.N.hole_free_coverage): a pixel's disparity within this of
   /// the cell's level plane [px] saw its ground; off by more, the frame does not judge
   /// that quarter of the cell.

@@ -14,6 +14,7 @@
 // the radius plus half a cell's diagonal (every cell the disc touches, and a few more). Hazard distance: metres from each cell centre to
 // the nearest fused hazard cell centre, capped at half the map's side.
 
+#include <array>
 #include <vector>
 
 #include "hazmap/hazard/dirty_region.hpp"
@@ -38,6 +39,16 @@ class HazardFusion {
   /// measured this part of it and passed every test, the step above its own wheel ring
   /// and the slopes included. Off: SPEC 8.4's any-layer hazard.
   void set_finer_proof(bool on) { finer_proof_ = on; }
+
+  /// Proof margin (hazard.proof_margin, issue 34): a cell whose centre lies within
+  /// `margin_m` of a fused hazard cell's centre is not traversable (unknown) and not clear.
+  /// A matcher's window at a rock's silhouette measures the rock's base as the ground in
+  /// front of it (low sun, 12 cm rocks: the first 1-3 cm of the rock at ground height), so
+  /// the cell beside the hazard the map did see may hold rock. Hazards outside the fused
+  /// grid do not count. 0: off. `resolution_m`: the fused grid's.
+  void set_proof_margin(double margin_m, double resolution_m);
+  /// Cells the margin reaches (0: off); an incremental caller grows its region by it.
+  int proof_margin_cells() const { return margin_cells_; }
 
   /// Fuses `layers` onto a `cells` x `cells` grid of resolution `resolution_m` centred
   /// at (center_x, center_y). Buffers are reused.
@@ -69,6 +80,15 @@ class HazardFusion {
 
  private:
   bool finer_proof_ = false;
+  struct FusedCell {
+    float cls, clearance;
+    bool ring_only;
+  };
+  int margin_cells_ = 0;
+  double margin_resolution_m_ = 0.0;
+  std::vector<std::array<int, 2>> margin_offsets_;  ///< (drow, dcol) within the margin
+  std::vector<float> margin_cls_;       ///< classes before the margin over a grown rectangle
+  std::vector<FusedCell> margin_fused_;  ///< the rectangle's cells before the margin
   std::vector<int> cols_, rows_;  ///< per layer: fused column/row -> layer column/row (-1 outside)
   /// Fused column/row lookups of `layers` for `fused`'s geometry.
   void map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused);

@@ -72,6 +72,7 @@ struct HazardParams {
   bool finer_proof = false;               ///< hazard.finer_proof (HazardFusion)
   bool coarse_ring_fill = false;          ///< hazard.coarse_ring_fill (HazardStage)
   bool footprint_centre_ring = false;     ///< hazard.footprint_centre_ring (HazardFusion)
+  double proof_margin_m = 0.0;            ///< hazard.proof_margin (HazardFusion)
 };
 
 /// From the map core's configuration; a run's Config (io/config.hpp) is one.
