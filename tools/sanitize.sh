@@ -23,8 +23,8 @@ cd "$build"
 # code the other command-line tests do not.
 log="$build/ctest.log"
 if ! ctest --output-on-failure -j "$jobs" --timeout 1200 -E '^ReadmeWalkthrough\.' 2>&1 | tee "$log"; then
-  # LeakSanitizer's own tracer can crash while a passed test's process exits on a loaded
-  # machine ("Tracer caught signal 11", "LeakSanitizer has encountered a fatal error";
+  # LeakSanitizer's own tracer can crash while a passed test's process exits
+  # ("Tracer caught signal 11", "LeakSanitizer has encountered a fatal error";
   # in RowOffset.KnownSubPixelShift... on this machine, alone too, after the test passed).
   # Only then are the failed tests run once more with ASan and UBSan but without the leak
   # check that could not run; any other report fails again, and any other failure stands.

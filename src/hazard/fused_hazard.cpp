@@ -126,31 +126,24 @@ void HazardFusion::fuse(const std::vector<FusionInput>& layers, double critical_
     // then each cell with its neighbours' classes.
     const GridRect grown = cut.dilated(margin_cells_).clipped(fused.rows, fused.cols);
     const int gcols = grown.col1 - grown.col0;
-    margin_cls_.resize(static_cast<size_t>(grown.area()));
-    margin_fused_.resize(static_cast<size_t>(cut.area()));
+    const auto at = [&](int row, int col) {
+      return static_cast<size_t>(row - grown.row0) * gcols + static_cast<size_t>(col - grown.col0);
+    };
+    margin_fused_.resize(static_cast<size_t>(grown.area()));
     for (int row = grown.row0; row < grown.row1; ++row)
-      for (int col = grown.col0; col < grown.col1; ++col) {
-        const FusedCell c = fuse_cell(row, col);
-        margin_cls_[static_cast<size_t>(row - grown.row0) * gcols + (col - grown.col0)] = c.cls;
-        if (cut.contains(row, col))
-          margin_fused_[static_cast<size_t>(row - cut.row0) * (cut.col1 - cut.col0) +
-                            (col - cut.col0)] = c;
-      }
+      for (int col = grown.col0; col < grown.col1; ++col) margin_fused_[at(row, col)] = fuse_cell(row, col);
     for (int row = cut.row0; row < cut.row1; ++row)
       for (int col = cut.col0; col < cut.col1; ++col) {
         bool near = false;
         for (const auto& o : margin_offsets_) {
           const int r = row + o[0], c = col + o[1];
-          if (r < grown.row0 || r >= grown.row1 || c < grown.col0 || c >= grown.col1) continue;
-          if (margin_cls_[static_cast<size_t>(r - grown.row0) * gcols + (c - grown.col0)] == hazard) {
+          if (r >= grown.row0 && r < grown.row1 && c >= grown.col0 && c < grown.col1 &&
+              margin_fused_[at(r, c)].cls == hazard) {
             near = true;
             break;
           }
         }
-        store(row, col,
-              margin_fused_[static_cast<size_t>(row - cut.row0) * (cut.col1 - cut.col0) +
-                                (col - cut.col0)],
-              near);
+        store(row, col, margin_fused_[at(row, col)], near);
       }
   }
 }

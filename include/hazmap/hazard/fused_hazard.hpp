@@ -87,8 +87,7 @@ class HazardFusion {
   int margin_cells_ = 0;
   double margin_resolution_m_ = 0.0;
   std::vector<std::array<int, 2>> margin_offsets_;  ///< (drow, dcol) within the margin
-  std::vector<float> margin_cls_;       ///< classes before the margin over a grown rectangle
-  std::vector<FusedCell> margin_fused_;  ///< the rectangle's cells before the margin
+  std::vector<FusedCell> margin_fused_;  ///< a rectangle grown by the margin, before it
   std::vector<int> cols_, rows_;  ///< per layer: fused column/row -> layer column/row (-1 outside)
   /// Fused column/row lookups of `layers` for `fused`'s geometry.
   void map_layers(const std::vector<FusionInput>& layers, const DenseGrid& fused);
