@@ -378,20 +378,40 @@ HAZMAP_AVX2_KERNEL void column_row_narrow_avx2(const NarrowColumnRow& r) {
 
 HAZMAP_AVX2_KERNEL void winners_narrow_avx2(const WinnerRow& r) {
   const int n = r.n;
-  const __m128i above_n = _mm_cmpgt_epi16(_mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7),
-                                          _mm_set1_epi16(static_cast<short>(n - 1)));
+  const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m128i above_n = _mm_cmpgt_epi16(lane, _mm_set1_epi16(static_cast<short>(n - 1)));
+  // offer_to_right on one register: right pixels x - d0 - 7 .. x - d0 in lanes 0..7, so
+  // lane j takes sum lane 7 - j (reversed) where 7 - j < n; unsigned compares by the sign
+  // flip. Each left pixel offers to distinct right pixels: the same as the scalar loop.
+  const __m128i reverse = _mm_setr_epi8(14, 15, 12, 13, 10, 11, 8, 9, 6, 7, 4, 5, 2, 3, 0, 1);
+  const __m128i in_window = _mm_cmpgt_epi16(lane, _mm_set1_epi16(static_cast<short>(7 - n)));
+  const __m128i flip = _mm_set1_epi16(static_cast<short>(0x8000));
   for (int x = 0; x < r.width; ++x) {
     r.disp[x] = -1.f;
     const int d0 = r.dmin[x];
     if (d0 == kNoSeed) continue;
     const std::uint16_t* s = r.sum + static_cast<std::size_t>(x) * kNarrow;
+    const __m128i sums = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s));
     // Lanes >= n to kNoSum; minpos: the lowest sum and its first lane.
-    const __m128i m = _mm_minpos_epu16(
-        _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(s)), above_n));
+    const __m128i m = _mm_minpos_epu16(_mm_or_si128(sums, above_n));
     const int best = _mm_extract_epi16(m, 0);
     const int kb = _mm_extract_epi16(m, 1);
-    if (x - d0 < 0) continue;
-    offer_to_right(r, s, x, d0, n);
+    const int xr0 = x - d0;
+    if (xr0 < 0) continue;
+    if (xr0 >= kNarrow - 1) {
+      __m128i* rs = reinterpret_cast<__m128i*>(r.right_s + (xr0 - (kNarrow - 1)));
+      __m128i* rd = reinterpret_cast<__m128i*>(r.right_d + (xr0 - (kNarrow - 1)));
+      const __m128i offered = _mm_shuffle_epi8(sums, reverse);
+      const __m128i kept = _mm_loadu_si128(rs);
+      const __m128i take = _mm_and_si128(
+          in_window, _mm_cmpgt_epi16(_mm_xor_si128(kept, flip), _mm_xor_si128(offered, flip)));
+      _mm_storeu_si128(rs, _mm_blendv_epi8(kept, offered, take));
+      const __m128i disparity =
+          _mm_sub_epi16(_mm_set1_epi16(static_cast<short>(d0 + kNarrow - 1)), lane);
+      _mm_storeu_si128(rd, _mm_blendv_epi8(_mm_loadu_si128(rd), disparity, take));
+    } else {
+      offer_to_right(r, s, x, d0, n);
+    }
     if (x - d0 - kb < 0) continue;
     if ((kb == 0 && d0 > r.lo) || (kb == n - 1 && d0 + n < r.hi)) continue;
     float d = static_cast<float>(d0 + kb);

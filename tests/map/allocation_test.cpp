@@ -220,7 +220,8 @@ TEST(Allocation, TheDirectPointsStageAllocatesNothingOnceWarm) {
 }
 
 // The c2f matcher sizes every buffer at construction (issue 32): a second and third
-// pair allocate nothing, through pyramid, census, aggregation, checks and speckle filter.
+// pair allocate nothing, through pyramid, census, aggregation, checks and speckle filter,
+// nor does the support check that follows it in the front end.
 TEST(Allocation, TheC2fMatcherAllocatesNothingOnceWarm) {
   const Sequence seq = load_sequence(testing::source_dir() / "data/sample");
   const Config config = load_config(testing::source_dir() / "config/default.yaml");
@@ -229,10 +230,16 @@ TEST(Allocation, TheC2fMatcherAllocatesNothingOnceWarm) {
   front.process(read_image(f.left_path), read_image(f.right_path), f.pose.T_W_B);
   const cv::Mat left = front.rectified_left().clone(), right = front.rectified_right().clone();
   C2fMatcher matcher(C2fConfig{}, 0, 160, left.size(), 100, 2);
+  // The support check after it (row strips in parallel) too.
+  SupportCheck support(32, 0.25, 1.0);
   cv::Mat disparity;
   matcher.compute(left, right, disparity);
+  support.apply(disparity, 0);  // min_disparity 0
   const long before = g_news.load();
-  for (int i = 0; i < 2; ++i) matcher.compute(left, right, disparity);
+  for (int i = 0; i < 2; ++i) {
+    matcher.compute(left, right, disparity);
+    support.apply(disparity, 0);  // min_disparity 0
+  }
   EXPECT_EQ(g_news.load() - before, 0);
   EXPECT_GT(cv::countNonZero(disparity > 0), static_cast<int>(disparity.total() / 2));
 }

@@ -5,6 +5,8 @@
 
 #include <random>
 
+#include <opencv2/core/utility.hpp>
+
 #include <gtest/gtest.h>
 
 #include "hazmap/core/error.hpp"
@@ -15,21 +17,24 @@ namespace {
 constexpr int kInvalid = -16;  // min_disparity 0: OpenCV marks invalid pixels with -16
 
 /// The rule, pixel by pixel: samples at k * spacing rows below (k = 1..8, within
-/// `rows`), farther when d16 < floor(d16_pixel (1 - tol) - 16 margin).
-cv::Mat reference_mask(const cv::Mat& d, int rows, double tol, double margin_px) {
+/// `rows`), farther when d16 < floor(d16_pixel (1 - tol) - 16 margin); valid: d16 > 0 and
+/// d16 > invalid_below.
+cv::Mat reference_mask(const cv::Mat& d, int rows, double tol, double margin_px,
+                       int invalid_below = 0) {
+  const int valid_above = std::max(invalid_below, 0);
   cv::Mat removed(d.size(), CV_8U, cv::Scalar(0));
   const int spacing = std::max(1, rows / SupportCheck::kSamples);
   for (int v = 0; v < d.rows; ++v)
     for (int u = 0; u < d.cols; ++u) {
       const int dv = d.at<int16_t>(v, u);
-      if (dv <= 0) continue;
+      if (dv <= valid_above) continue;
       const double thr = std::floor(dv * (1.0 - tol) - 16.0 * margin_px);
       int valid = 0, far = 0;
       for (int k = 1; k <= SupportCheck::kSamples; ++k) {
         const int r = v + k * spacing;
         if (r >= d.rows || k * spacing > rows) break;
         const int db = d.at<int16_t>(r, u);
-        if (db <= 0) continue;
+        if (db <= valid_above) continue;
         ++valid;
         far += db < thr;
       }
@@ -39,22 +44,54 @@ cv::Mat reference_mask(const cv::Mat& d, int rows, double tol, double margin_px)
 }
 
 TEST(SupportCheck, EqualsThePerPixelRuleOnRandomDisparities) {
+  // Row strips run in parallel and decide from the unchanged image: the result must be the
+  // rule's, on every thread count, for spans shorter than the 8 samples (spacing 1), spans
+  // past the image's bottom, another invalid marker, and one checker reused across sizes.
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> disp(-16, 160 * 16), hole(0, 9);
-  cv::Mat d(120, 90, CV_16S);
-  for (int v = 0; v < d.rows; ++v)
-    for (int u = 0; u < d.cols; ++u) d.at<int16_t>(v, u) = int16_t(hole(rng) == 0 ? kInvalid : disp(rng));
-  for (int rows : {8, 20, 32, 200}) {
-    const cv::Mat want = reference_mask(d, rows, 0.25, 1.0);
-    cv::Mat got = d.clone();
-    SupportCheck check(rows, 0.25, 1.0);
-    const std::size_t removed = check.apply(got, 0);
-    EXPECT_EQ(removed, std::size_t(cv::countNonZero(want))) << rows;
-    EXPECT_GT(removed, 0u) << rows;
+  const int threads = cv::getNumThreads();
+  for (const cv::Size size : {cv::Size(90, 120), cv::Size(37, 61)}) {
+    cv::Mat d(size, CV_16S);
     for (int v = 0; v < d.rows; ++v)
       for (int u = 0; u < d.cols; ++u)
-        ASSERT_EQ(got.at<int16_t>(v, u), want.at<uint8_t>(v, u) ? kInvalid : d.at<int16_t>(v, u))
-            << rows << " at " << v << "," << u;
+        d.at<int16_t>(v, u) = int16_t(hole(rng) == 0 ? kInvalid : disp(rng));
+    for (const int invalid_below : {0, 48})
+      for (const int t : {1, threads}) {
+        cv::setNumThreads(t);
+        for (int rows : {3, 5, 8, 20, 32, 200}) {
+          const cv::Mat want = reference_mask(d, rows, 0.25, 1.0, invalid_below);
+          cv::Mat got = d.clone();
+          SupportCheck check(rows, 0.25, 1.0);
+          const std::size_t removed = check.apply(got, invalid_below);
+          EXPECT_EQ(removed, std::size_t(cv::countNonZero(want))) << rows;
+          // Fewer than kMinValidBelow samples fit (short spans, the small image's 200 rows):
+          // never evidence. Otherwise the random image has unsupported pixels.
+          if (rows >= SupportCheck::kMinValidBelow && d.rows >= 100) {
+            EXPECT_GT(removed, 0u) << rows;
+          }
+          const auto marked = int16_t(invalid_below - 16);
+          for (int v = 0; v < d.rows; ++v)
+            for (int u = 0; u < d.cols; ++u)
+              ASSERT_EQ(got.at<int16_t>(v, u), want.at<uint8_t>(v, u) ? marked : d.at<int16_t>(v, u))
+                  << rows << " at " << v << "," << u << ", " << t << " threads";
+        }
+      }
+  }
+  cv::setNumThreads(threads);
+  // One checker over two sizes in turn keeps giving the rule's result.
+  cv::Mat big(120, 90, CV_16S), small(61, 37, CV_16S);
+  for (cv::Mat* m : {&big, &small})
+    for (int v = 0; v < m->rows; ++v)
+      for (int u = 0; u < m->cols; ++u)
+        m->at<int16_t>(v, u) = int16_t(hole(rng) == 0 ? kInvalid : disp(rng));
+  SupportCheck reused(20, 0.25, 1.0);
+  for (const cv::Mat* m : {&big, &small, &big}) {
+    cv::Mat got = m->clone();
+    reused.apply(got, 0);
+    const cv::Mat want = reference_mask(*m, 20, 0.25, 1.0);
+    cv::Mat expected = m->clone();
+    expected.setTo(kInvalid, want);
+    EXPECT_EQ(cv::countNonZero(got != expected), 0);
   }
 }
 

@@ -32,15 +32,19 @@ class SupportCheck {
   /// Invalidates (sets to invalid_below_x16 - 16, as OpenCV marks invalid pixels) every
   /// valid pixel of `disparity_x16` (CV_16S, x16) for which more than half of its valid
   /// samples below are farther. Returns how many. Valid: d > invalid_below_x16 and d > 0.
-  /// Buffers are kept: no allocation after the first image of a given width.
+  /// Row strips in parallel. Buffers are kept: no allocation after the first image of a
+  /// given size.
   std::size_t apply(cv::Mat& disparity_x16, int invalid_below_x16);
 
  private:
   int rows_;
   double keep_fraction_;  ///< 1 - tolerance
   double margin_x16_;
-  std::vector<std::uint8_t> valid_below_, far_below_;
-  std::vector<std::int16_t> threshold_;
+  std::vector<std::int16_t> threshold_;     ///< per row strip: the far threshold of each pixel
+  std::vector<std::int16_t> nowhere_;       ///< a row without a valid disparity
+  std::vector<std::int16_t> threshold_of_;  ///< the far threshold by disparity [0, 32768)
+  std::vector<std::uint8_t> remove_;        ///< per pixel: unsupported
+  std::vector<std::size_t> removed_by_strip_;
 };
 
 }  // namespace hazmap
