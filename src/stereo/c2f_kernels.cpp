@@ -115,10 +115,10 @@ void column_row_narrow_scalar(const NarrowColumnRow& r) {
     const bool has_prev =
         r.prev_dmin != nullptr && xq >= 0 && xq < r.width && r.prev_dmin[xq] != kNoSeed;
     const std::size_t p = static_cast<std::size_t>(x) * kNarrow;
-    const std::size_t q = static_cast<std::size_t>(has_prev ? xq : 0) * kNarrow;
+    const std::size_t q = state_at(has_prev ? xq : 0);
     r.cur_min[x] = step_scalar(has_prev ? r.prev + q : nullptr, has_prev ? r.prev_min[xq] : 0,
-                               d0 - (has_prev ? r.prev_dmin[xq] : 0), r.cost + p, sp, r.cur + p,
-                               r.sum + p);
+                               d0 - (has_prev ? r.prev_dmin[xq] : 0), r.cost + p, sp,
+                               r.cur + state_at(x), r.sum + p);
   }
 }
 
@@ -313,7 +313,10 @@ HAZMAP_AVX2_KERNEL inline __m128i window_costs_avx2(const NarrowRow& r, int x, i
 
 }  // namespace
 
-HAZMAP_AVX2_KERNEL void rows_narrow_avx2(const NarrowRow& r) {
+HAZMAP_AVX2_KERNEL void rows_narrow_avx2(const NarrowRow& row) {
+  // A local copy: the byte stores of the costs could alias the caller's struct, and every
+  // pixel would reload its fields.
+  const NarrowRow r = row;
   const __m128i p1 = _mm_set1_epi16(static_cast<short>(r.p1));
   const __m128i p2 = _mm_set1_epi16(static_cast<short>(r.p2));
   const __m128i mask = narrow_mask(r.n);
@@ -352,31 +355,47 @@ HAZMAP_AVX2_KERNEL void column_row_narrow_avx2(const NarrowColumnRow& r) {
   const __m128i p1 = _mm_set1_epi16(static_cast<short>(r.p1));
   const __m128i p2 = _mm_set1_epi16(static_cast<short>(r.p2));
   const __m128i mask = narrow_mask(r.n);
-  for (int x = r.x0; x < r.x1; ++x) {
-    const int d0 = r.dmin[x];
+  // r's fields in locals: the stores below (int, int16) could alias them otherwise, and
+  // every pixel would reload them.
+  const int width = r.width, dx = r.dx, x1 = r.x1;
+  const std::int16_t* const dmin = r.dmin;
+  const std::int16_t* const prev_dmin = r.prev_dmin;
+  const std::int16_t* const prev = r.prev;
+  const int* const prev_min = r.prev_min;
+  std::int16_t* const cur = r.cur;
+  int* const cur_min = r.cur_min;
+  const std::uint8_t* const cost = r.cost;
+  std::uint16_t* const sum_row = r.sum;
+  for (int x = r.x0; x < x1; ++x) {
+    const int d0 = dmin[x];
     if (d0 == kNoSeed) continue;
-    const int xq = x - r.dx;
+    const int xq = x - dx;
     const bool has_prev =
-        r.prev_dmin != nullptr && xq >= 0 && xq < r.width && r.prev_dmin[xq] != kNoSeed;
+        prev_dmin != nullptr && xq >= 0 && xq < width && prev_dmin[xq] != kNoSeed;
     const std::size_t p = static_cast<std::size_t>(x) * kNarrow;
-    __m128i lq = _mm_setzero_si128(), base = _mm_setzero_si128();
-    int delta = 0;
+    __m128i v = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(cost + p)));
     if (has_prev) {
-      const std::size_t q = static_cast<std::size_t>(xq) * kNarrow;
-      lq = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r.prev + q));
-      base = _mm_set1_epi16(static_cast<short>(r.prev_min[xq]));
-      delta = d0 - r.prev_dmin[xq];
+      // narrow_step with the shifted windows read from the padded state row: lane k of a
+      // load at offset s is q's lane k + s, or kInf padding outside [0, kNarrow).
+      const std::int16_t* q = prev + state_at(xq) + std::clamp(d0 - prev_dmin[xq], -8, 8);
+      const __m128i base = _mm_set1_epi16(static_cast<short>(prev_min[xq]));
+      const __m128i same = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
+      const __m128i below = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q - 1));
+      const __m128i above = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q + 1));
+      __m128i best = _mm_min_epi16(same, _mm_add_epi16(base, p2));
+      best = _mm_min_epi16(best, _mm_add_epi16(_mm_min_epi16(below, above), p1));
+      v = _mm_add_epi16(v, _mm_sub_epi16(best, base));
     }
-    const __m128i c = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(r.cost + p)));
-    const __m128i v = narrow_step(lq, base, delta, has_prev, c, p1, p2, mask);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(r.cur + p), v);
-    r.cur_min[x] = _mm_extract_epi16(_mm_minpos_epu16(v), 0);
-    __m128i* sum = reinterpret_cast<__m128i*>(r.sum + p);
+    v = _mm_max_epi16(v, mask);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cur + state_at(x)), v);
+    cur_min[x] = _mm_extract_epi16(_mm_minpos_epu16(v), 0);
+    __m128i* sum = reinterpret_cast<__m128i*>(sum_row + p);
     _mm_storeu_si128(sum, _mm_add_epi16(_mm_loadu_si128(sum), v));
   }
 }
 
-HAZMAP_AVX2_KERNEL void winners_narrow_avx2(const WinnerRow& r) {
+HAZMAP_AVX2_KERNEL void winners_narrow_avx2(const WinnerRow& row) {
+  const WinnerRow r = row;  // a local copy, as in rows_narrow_avx2
   const int n = r.n;
   const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
   const __m128i above_n = _mm_cmpgt_epi16(lane, _mm_set1_epi16(static_cast<short>(n - 1)));

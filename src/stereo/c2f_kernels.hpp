@@ -6,6 +6,7 @@
 // one 8-lane vector, costs computed in the first row pass).
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -73,6 +74,20 @@ struct NarrowRow {
 void rows_narrow_scalar(const NarrowRow& r);
 void rows_narrow_avx2(const NarrowRow& r);
 
+/// A narrow level's column-pass state row: pixel x's kNarrow path costs at lanes
+/// kStatePad + x kStateStride, with kStatePad kInf lanes before each pixel's and after the
+/// last, so that a window shifted by up to +-(kNarrow + 1) lanes is one plain load.
+constexpr int kStatePad = 16;
+constexpr int kStateStride = kStatePad + kNarrow;
+/// Lanes of one state row of `width` pixels.
+constexpr std::size_t state_row_lanes(int width) {
+  return static_cast<std::size_t>(width) * kStateStride + kStatePad;
+}
+/// Where pixel x's path costs start in a state row.
+constexpr std::size_t state_at(int x) {
+  return static_cast<std::size_t>(x) * kStateStride + kStatePad;
+}
+
 /// One row of a column (dx 0) or diagonal (dx +-1) path of a narrow level: pixel x after
 /// pixel x - dx of the row before, for x in [x0, x1).
 struct NarrowColumnRow {
@@ -80,9 +95,10 @@ struct NarrowColumnRow {
   int x0 = 0, x1 = 0, dx = 0;
   const std::int16_t* dmin = nullptr;       ///< this row
   const std::int16_t* prev_dmin = nullptr;  ///< the row before; nullptr: the path starts here
-  const std::int16_t* prev = nullptr;       ///< its path costs, width x kNarrow
+  const std::int16_t* prev = nullptr;       ///< its path costs, a state row (state_at)
   const int* prev_min = nullptr;            ///< and their minima, width
-  std::int16_t* cur = nullptr;              ///< this row's path costs, width x kNarrow
+  std::int16_t* cur = nullptr;              ///< this row's path costs, a state row; only
+                                            ///< the kNarrow lanes of each pixel written
   int* cur_min = nullptr;
   const std::uint8_t* cost = nullptr;  ///< width x kNarrow
   std::uint16_t* sum = nullptr;        ///< width x kNarrow, += this path

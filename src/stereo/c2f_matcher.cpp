@@ -137,7 +137,10 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
     if (L.full) L.conf.assign(pixels, 0);
     L.right_s.assign(pixels, 0);
     L.right_d.assign(pixels, 0);
-    L.state.assign(2 * static_cast<size_t>(size.width) * static_cast<size_t>(L.stride), kInf);
+    // Narrow: two padded state rows (c2f::state_at), whose padding stays kInf.
+    L.state.assign(L.narrow ? 2 * c2f::state_row_lanes(size.width)
+                            : 2 * static_cast<size_t>(size.width) * static_cast<size_t>(L.stride),
+                   kInf);
     L.state_min.assign(2 * static_cast<size_t>(size.width), 0);
     L.pad_mask.assign(kLanes, 0);
     for (int k = L.n - (L.npad - kLanes); k < kLanes; ++k)
@@ -482,7 +485,7 @@ void C2fMatcher::column_pass(Level& L, int dx, int dy, cv::Range cols) const {
 /// column_pass on a narrow level: whole rows of 8-lane windows per kernel call.
 void C2fMatcher::column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) const {
   const int w = L.size.width, h = L.size.height;
-  const int npad = L.npad, stride = L.stride;
+  const int npad = L.npad;
   const PixelIndex at{w};
   c2f::NarrowColumnRow r;
   r.width = w;
@@ -497,9 +500,9 @@ void C2fMatcher::column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) co
   for (int i = 0, y = y0; i < h; ++i, y += dy) {
     r.dmin = L.dmin.data() + at(0, y);
     r.prev_dmin = i > 0 ? L.dmin.data() + at(0, y - dy) : nullptr;
-    r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * w * stride;
+    r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * c2f::state_row_lanes(w);
     r.prev_min = L.state_min.data() + static_cast<size_t>((i + 1) & 1) * w;
-    r.cur = L.state.data() + static_cast<size_t>(i & 1) * w * stride;
+    r.cur = L.state.data() + static_cast<size_t>(i & 1) * c2f::state_row_lanes(w);
     r.cur_min = L.state_min.data() + static_cast<size_t>(i & 1) * w;
     r.cost = L.cost.data() + at(0, y) * static_cast<size_t>(npad);
     r.sum = L.sum.data() + at(0, y) * static_cast<size_t>(npad);
