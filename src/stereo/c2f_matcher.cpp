@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "stereo/c2f_kernels.hpp"
+#include "stereo/parallel_strips.hpp"
 #include "hazmap/core/error.hpp"
 #include "hazmap/map/internal/simd.hpp"
 
@@ -16,6 +17,8 @@ namespace hazmap {
 using c2f::kInf;
 using c2f::kLanes;
 using c2f::kPad;
+using stereo_detail::parallel_range;
+using stereo_detail::strip;
 
 namespace {
 
@@ -30,28 +33,6 @@ struct PixelIndex {
     return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
   }
 };
-
-/// cv::parallel_for_ without its std::function wrapper, which allocates for a lambda
-/// capturing more than a pointer or two (compute() allocates nothing).
-template <class F>
-class Body : public cv::ParallelLoopBody {
- public:
-  explicit Body(const F& f) : f_(f) {}
-  void operator()(const cv::Range& r) const override { f_(r); }
-
- private:
-  const F& f_;
-};
-template <class F>
-void parallel_rows(cv::Range range, const F& f) {
-  cv::parallel_for_(range, Body<F>(f));
-}
-
-/// Splits [0, n) into `parts` nearly equal pieces; piece i.
-cv::Range piece(int n, int parts, int i) {
-  return {static_cast<int>(static_cast<long long>(n) * i / parts),
-          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
-}
 
 }  // namespace
 
@@ -229,10 +210,10 @@ void pyramid_down(const cv::Mat& src, cv::Mat& dst, std::vector<int>& rows, int 
   const int w = src.cols, h = src.rows;
   auto reflect = [](int i, int n) { return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i); };
   static constexpr int kTaps[5] = {1, 4, 6, 4, 1};
-  parallel_rows(cv::Range(0, strips), [&](const cv::Range& range) {
+  parallel_range(cv::Range(0, strips), [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       int* row = rows.data() + static_cast<size_t>(s) * static_cast<size_t>(w);
-      const cv::Range ys = piece(dst.rows, strips, s);
+      const cv::Range ys = strip(dst.rows, strips, s);
       for (int y = ys.start; y < ys.end; ++y) {
         const std::uint8_t* r[5];
         for (int t = 0; t < 5; ++t) r[t] = src.ptr<std::uint8_t>(reflect(2 * y - 2 + t, h));
@@ -266,7 +247,7 @@ void census(const cv::Mat& src, cv::Mat& pad, int cw, int ch, bool avx2,
   cv::copyMakeBorder(src, pad, rh, rh, cw / 2, cw / 2, cv::BORDER_REPLICATE);
   const int width = src.cols;
   const auto row_kernel = avx2 ? c2f::census_row_avx2 : c2f::census_row_scalar;
-  parallel_rows(cv::Range(0, src.rows), [&](const cv::Range& rows) {
+  parallel_range(cv::Range(0, src.rows), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const std::uint8_t* window[16];
       for (int i = 0; i < ch; ++i) window[i] = pad.ptr<std::uint8_t>(y + i);
@@ -294,7 +275,7 @@ void C2fMatcher::seed_level(int l) {
   const int w = L.size.width, cw = C.size.width;
   const int r = config_.radius;
   const int top = L.hi - L.n;
-  parallel_rows(cv::Range(0, L.size.height), [&](const cv::Range& rows) {
+  parallel_range(cv::Range(0, L.size.height), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const float* coarse = C.disp.data() + static_cast<size_t>(y / 2) * static_cast<size_t>(cw);
       std::int16_t* dmin = L.dmin.data() + static_cast<size_t>(y) * static_cast<size_t>(w);
@@ -357,7 +338,7 @@ void C2fMatcher::compute_costs(Level& L) const {
   const int n = L.n, npad = L.npad;
   const int bits = config_.census_width * config_.census_height - 1;
   const PixelIndex at{w};
-  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_range(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       const std::uint64_t* cl = L.census_l.data() + at(0, y);
       const std::uint64_t* cr = L.census_r.data() + at(0, y);
@@ -381,13 +362,13 @@ void C2fMatcher::aggregate_rows(Level& L) {
   const PixelIndex at{w};
   const c2f::StepParams sp = step_params(L);
   const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
-  parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
+  parallel_range(cv::Range(0, strips_), [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       std::vector<std::int16_t>& buffer = scratch_[static_cast<size_t>(s)];
       std::fill(buffer.begin(), buffer.end(), kInf);  // another level's lanes
       std::int16_t* a = buffer.data() + kPad;
       std::int16_t* b = a + stride;
-      const cv::Range rows = piece(h, strips_, s);
+      const cv::Range rows = strip(h, strips_, s);
       if (L.narrow) {
         c2f::NarrowRow r;
         r.width = w;
@@ -434,8 +415,8 @@ void C2fMatcher::aggregate_rows(Level& L) {
 void C2fMatcher::aggregate_columns(Level& L) const {
   const int w = L.size.width;
   for (int dy : {1, -1}) {
-    parallel_rows(cv::Range(0, strips_), [&](const cv::Range& range) {
-      for (int s = range.start; s < range.end; ++s) column_pass(L, 0, dy, piece(w, strips_, s));
+    parallel_range(cv::Range(0, strips_), [&](const cv::Range& range) {
+      for (int s = range.start; s < range.end; ++s) column_pass(L, 0, dy, strip(w, strips_, s));
     });
   }
   if (config_.paths == 8)
@@ -517,7 +498,7 @@ void C2fMatcher::select_winners(Level& L) const {
   const PixelIndex at{w};
   const int lr = config_.lr_max_diff;
   const int uniq = config_.uniqueness;
-  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_range(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       std::uint16_t* rs = L.right_s.data() + at(0, y);
       std::int16_t* rd = L.right_d.data() + at(0, y);
@@ -571,7 +552,7 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
   disparity_x16.create(L0.size, CV_16SC1);
   const Level& top = levels_.back();
   const int shift = static_cast<int>(levels_.size()) - 1;
-  parallel_rows(cv::Range(0, L0.size.height), [&](const cv::Range& rows) {
+  parallel_range(cv::Range(0, L0.size.height), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       std::int16_t* out = disparity_x16.ptr<std::int16_t>(y);
       std::uint8_t* conf = confidence_.ptr<std::uint8_t>(y);

@@ -4,10 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include <opencv2/core/utility.hpp>
-
 #include "hazmap/core/error.hpp"
 #include "hazmap/map/internal/simd.hpp"
+#include "stereo/parallel_strips.hpp"
 
 namespace hazmap {
 
@@ -20,26 +19,8 @@ SupportCheck::SupportCheck(int rows, double tolerance, double margin_px)
     throw Error("stereo.support_margin_px: must be a non-negative number");
 }
 
-namespace {
-
-/// cv::parallel_for_ with a plain body: its std::function wrapper would allocate for a
-/// lambda holding this many references (apply() allocates nothing after the first image).
-template <class F>
-class Body : public cv::ParallelLoopBody {
- public:
-  explicit Body(const F& f) : f_(f) {}
-  void operator()(const cv::Range& r) const override { f_(r); }
-
- private:
-  const F& f_;
-};
-
-cv::Range piece(int n, int parts, int i) {
-  return {static_cast<int>(static_cast<long long>(n) * i / parts),
-          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
-}
-
-}  // namespace
+using stereo_detail::parallel_range;
+using stereo_detail::strip;
 
 namespace support_detail {
 
@@ -98,7 +79,7 @@ std::size_t SupportCheck::apply(cv::Mat& disparity_x16, int invalid_below_x16) {
   auto decide = [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       std::int16_t* thr = threshold_.data() + static_cast<std::size_t>(s) * width;
-      const cv::Range vs = piece(rows, strips, s);
+      const cv::Range vs = strip(rows, strips, s);
       for (int v = vs.start; v < vs.end; ++v) {
         const std::int16_t* below[kSamples];
         for (int k = 1; k <= kSamples; ++k) {
@@ -115,7 +96,7 @@ std::size_t SupportCheck::apply(cv::Mat& disparity_x16, int invalid_below_x16) {
   auto clear = [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       std::size_t removed = 0;
-      const cv::Range vs = piece(rows, strips, s);
+      const cv::Range vs = strip(rows, strips, s);
       for (int v = vs.start; v < vs.end; ++v) {
         std::int16_t* d = disparity_x16.ptr<std::int16_t>(v);
         const std::uint8_t* out = remove_.data() + static_cast<std::size_t>(v) * width;
@@ -127,8 +108,8 @@ std::size_t SupportCheck::apply(cv::Mat& disparity_x16, int invalid_below_x16) {
       removed_by_strip_[static_cast<std::size_t>(s)] = removed;
     }
   };
-  cv::parallel_for_(cv::Range(0, strips), Body<decltype(decide)>(decide));
-  cv::parallel_for_(cv::Range(0, strips), Body<decltype(clear)>(clear));
+  parallel_range(cv::Range(0, strips), decide);
+  parallel_range(cv::Range(0, strips), clear);
   std::size_t removed = 0;
   for (const std::size_t n : removed_by_strip_) removed += n;
   return removed;

@@ -1,0 +1,32 @@
+#pragma once
+// Row-strip parallelism for the stereo stages that must not allocate per frame.
+
+#include <opencv2/core/utility.hpp>
+
+namespace hazmap::stereo_detail {
+
+/// cv::parallel_for_ with a plain body: its std::function overload allocates for a lambda
+/// capturing more than a pointer or two, and the per-frame path allocates nothing.
+template <class F>
+class ParallelBody : public cv::ParallelLoopBody {
+ public:
+  explicit ParallelBody(const F& f) : f_(f) {}
+  void operator()(const cv::Range& r) const override { f_(r); }
+
+ private:
+  const F& f_;
+};
+
+/// Runs f(sub-range) over `range` on OpenCV's thread pool.
+template <class F>
+void parallel_range(cv::Range range, const F& f) {
+  cv::parallel_for_(range, ParallelBody<F>(f));
+}
+
+/// Splits [0, n) into `parts` nearly equal pieces; returns piece i.
+inline cv::Range strip(int n, int parts, int i) {
+  return {static_cast<int>(static_cast<long long>(n) * i / parts),
+          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
+}
+
+}  // namespace hazmap::stereo_detail
