@@ -189,8 +189,8 @@ void BandMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& di
   if (config_.speckle_window > 0) {
     // StereoBM compares fixed-point values, SGBM scales the range itself: either way
     // the filter sees 16 x speckle_range (SPEC 3.2).
-    cv::filterSpeckles(disparity_x16, 16 * (config_.min_disparity - 1), config_.speckle_window,
-                       16 * config_.speckle_range, speckle_buffer_);
+    speckle_.apply(disparity_x16, 16 * (config_.min_disparity - 1), config_.speckle_window,
+                   16 * config_.speckle_range);
   }
 }
 

@@ -567,8 +567,7 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
     }
   });
   if (speckle_window_ > 0)
-    cv::filterSpeckles(disparity_x16, invalid, speckle_window_, 16 * speckle_range_,
-                       speckle_buffer_);
+    speckle_.apply(disparity_x16, invalid, speckle_window_, 16 * speckle_range_);
   L0.left = cv::Mat();
   L0.right = cv::Mat();
 }

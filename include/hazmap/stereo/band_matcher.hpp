@@ -37,6 +37,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "hazmap/stereo/ground_band.hpp"
+#include "hazmap/stereo/speckle_filter.hpp"
 #include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
@@ -98,7 +99,7 @@ class BandMatcher {
   std::vector<BandStrip> plan_;
   std::vector<Strip> strips_;
   std::vector<std::size_t> order_;  ///< strips by decreasing work: longest first
-  cv::Mat speckle_buffer_;
+  SpeckleFilter speckle_;
 };
 
 }  // namespace hazmap

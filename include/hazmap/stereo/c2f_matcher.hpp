@@ -21,6 +21,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "hazmap/stereo/speckle_filter.hpp"
 #include "hazmap/stereo/stereo_config.hpp"
 
 namespace hazmap {
@@ -77,7 +78,7 @@ class C2fMatcher {
   std::vector<std::vector<std::int16_t>> scratch_;  // per strip
   int strips_ = 1;
   cv::Mat confidence_;
-  cv::Mat speckle_buffer_;
+  SpeckleFilter speckle_;
   std::vector<int> pyramid_row_;  // per strip one source row, filtered vertically
   std::vector<std::size_t> valid_by_level_;
 };
