@@ -7,6 +7,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/stereo/disparity.hpp"
+#include "stereo/parallel_strips.hpp"
 
 namespace hazmap {
 namespace {
@@ -131,7 +132,7 @@ BandMatcher::BandMatcher(const StereoConfig& config, const GroundBand& band, cv:
   const int cap = static_cast<int>(band.max_disparity());
   check(cap % kDisparityQuantum == 0, "ground band: the disparity cap must be a multiple of 16");
   plan_ = plan_band_strips(band.rows(image_size), config.min_disparity, cap, margin_,
-                           2 * std::max(1, cv::getNumThreads()));
+                           stereo_detail::frame_strips());
   min_searched_ = std::numeric_limits<int>::max();
   end_searched_ = 0;
   std::vector<double> work;

@@ -128,7 +128,7 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
       L.pad_mask[static_cast<size_t>(std::max(k, 0))] = kInf;
     size = cv::Size((size.width + 1) / 2, (size.height + 1) / 2);
   }
-  strips_ = std::max(1, cv::getNumThreads()) * 2;
+  strips_ = stereo_detail::frame_strips();
   int widest = 0;
   for (const Level& L : levels_) widest = std::max(widest, L.stride);
   scratch_.assign(static_cast<size_t>(strips_),

@@ -1,6 +1,8 @@
 #pragma once
 // Row-strip parallelism for the stereo stages that must not allocate per frame.
 
+#include <algorithm>
+
 #include <opencv2/core/utility.hpp>
 
 namespace hazmap::stereo_detail {
@@ -22,6 +24,10 @@ template <class F>
 void parallel_range(cv::Range range, const F& f) {
   cv::parallel_for_(range, ParallelBody<F>(f));
 }
+
+/// How many strips a frame-sized pass is cut into: two per thread, so that a thread
+/// finishing early takes another.
+inline int frame_strips() { return std::max(1, cv::getNumThreads()) * 2; }
 
 /// Splits [0, n) into `parts` nearly equal pieces; returns piece i.
 inline cv::Range strip(int n, int parts, int i) {

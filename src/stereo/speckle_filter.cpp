@@ -19,16 +19,11 @@ int find_root(int* parent, int x) {
   return x;
 }
 
-/// Joins the sets of roots a and b under the smaller index; returns it, and in
-/// `absorbed` the root that stopped being one (-1: already joined).
-int join(int* parent, int a, int b, int& absorbed) {
-  if (a == b) {
-    absorbed = -1;
-    return a;
-  }
-  const int lo = std::min(a, b), hi = std::max(a, b);
-  parent[hi] = lo;
-  absorbed = hi;
+/// Joins the sets of two different roots under the smaller index (keeping parent[k] <= k);
+/// returns it.
+int join(int* parent, int a, int b) {
+  const int lo = std::min(a, b);
+  parent[std::max(a, b)] = lo;
   return lo;
 }
 
@@ -43,7 +38,7 @@ void SpeckleFilter::apply(cv::Mat& disparity, int invalid, int max_size, int max
     parent_.resize(n);
     count_.resize(n);
   }
-  const int strips = std::min(h, std::max(1, cv::getNumThreads()) * 2);
+  const int strips = std::min(h, stereo_detail::frame_strips());
   const std::size_t joins = static_cast<std::size_t>(w) * static_cast<std::size_t>(strips - 1);
   if (absorbed_.capacity() < joins) absorbed_.reserve(joins);
   int* const parent = parent_.data();
@@ -70,8 +65,10 @@ void SpeckleFilter::apply(cv::Mat& disparity, int invalid, int max_size, int max
             root = find_root(parent, row0 + u - 1);
           if (up && up[u] != invalid && joined(d[u], up[u])) {
             const int other = find_root(parent, row0 + u - w);
-            int absorbed;
-            root = root == row0 + u ? other : join(parent, root, other, absorbed);
+            if (root == row0 + u)
+              root = other;
+            else if (root != other)
+              root = join(parent, root, other);
           }
           p[u] = root;
         }
@@ -95,9 +92,10 @@ void SpeckleFilter::apply(cv::Mat& disparity, int invalid, int max_size, int max
     for (int u = 0; u < w; ++u) {
       if (d[u] == invalid || up[u] == invalid || !joined(d[u], up[u])) continue;
       const int i = y * w + u;
-      int absorbed;
-      join(parent, find_root(parent, parent[i]), find_root(parent, parent[i - w]), absorbed);
-      if (absorbed >= 0) absorbed_.push_back(absorbed);
+      const int a = find_root(parent, parent[i]), b = find_root(parent, parent[i - w]);
+      if (a == b) continue;
+      absorbed_.push_back(std::max(a, b));  // the root join() makes a child
+      join(parent, a, b);
     }
   }
   // Each absorbed strip root adds its count to its final root and points at it.

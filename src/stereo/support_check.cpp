@@ -63,7 +63,7 @@ std::size_t SupportCheck::apply(cv::Mat& disparity_x16, int invalid_below_x16) {
       threshold_of_[static_cast<std::size_t>(d)] = static_cast<std::int16_t>(
           std::max(-32768.0, std::floor(d * keep_fraction_ - margin_x16_)));
   }
-  const int strips = std::max(1, cv::getNumThreads()) * 2;
+  const int strips = stereo_detail::frame_strips();
   const std::size_t width = static_cast<std::size_t>(cols);
   threshold_.resize(static_cast<std::size_t>(strips) * width);
   remove_.resize(static_cast<std::size_t>(rows) * width);
