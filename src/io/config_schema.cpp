@@ -191,6 +191,7 @@ const std::vector<TopKey>& config_keys() {
       {"stereo.c2f.lr_max_diff", CONFIG_FIELD(stereo.c2f.lr_max_diff), "px", "c2f: left-right check at every level; -1 off", {at_least(-1)}},
       {"stereo.c2f.uniqueness", CONFIG_FIELD(stereo.c2f.uniqueness), "%", "c2f: at the full-range level a pixel's best cost must be below (100 - this) % of the best more than 1 px away", {in(0, 99, "[]")}},
       {"stereo.c2f.fill_unseeded", CONFIG_FIELD(stereo.c2f.fill_unseeded), "", "c2f: a pixel the coarser level left invalid is searched around the background of its row (the smaller of the nearest seeds to its left and right); false: it stays invalid"},
+      {"stereo.c2f.subpixel_radius", CONFIG_FIELD(stereo.c2f.subpixel_radius), "px", "c2f, finest level: r > 0 takes the sub-pixel disparity from two lines of opposite slope through the raw census costs summed over a (2 r + 1) x (2 r + 1) box of neighbours at the pixel's three disparities, where the box's lowest sum is at the pixel's winner; 0: a parabola through the pixel's aggregated costs, which locks onto whole pixels by 0.06-0.19 px but lets the 4 cm layer's hole-free test prove more ground ([docs/stereo.md](docs/stereo.md))", {in(0, 3, "[]")}},
       // sensor (SPEC 4)
       {"sensor.model", CONFIG_FIELD(sensor.model), "", "`axis` (thesis) or `ray` (first-order propagation)", {}},
       {"sensor.pointing_error_px", CONFIG_FIELD(sensor.pointing_error_px), "px", "pixel noise p", {at_least(0)}},

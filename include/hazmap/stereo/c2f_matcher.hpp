@@ -9,7 +9,9 @@
 // pixel's own window (a neighbour's disparities outside it cost as if unreachable),
 // winner-takes-all, a left-right check; the coarsest level also a uniqueness test (its
 // best against its second-best cost more than 1 px away: the per-pixel confidence), the
-// finest a parabola through the costs for sub-pixel disparities. Output: OpenCV's fixed
+// finest a parabola for sub-pixel disparities, through the raw census costs summed over a
+// box of neighbours at the pixel's three disparities (`subpixel_radius`; 0: through its
+// aggregated sums). Output: OpenCV's fixed
 // point (CV_16S, x16; (min_disparity - 1) x 16 where invalid), then the speckle filter.
 //
 // Two kernel sets, the same integers: a scalar one (the reference) and AVX2, chosen at
@@ -67,6 +69,7 @@ class C2fMatcher {
   void column_pass(Level& L, int dx, int dy, cv::Range cols) const;
   void column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) const;
   void select_winners(Level& L) const;
+  void refine_subpixel(Level& L) const;
 
   C2fConfig config_;
   int min_disparity_ = 0;

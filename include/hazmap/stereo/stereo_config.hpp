@@ -61,6 +61,10 @@ struct C2fConfig {
   int lr_max_diff = 1;     ///< left-right check at every level [px]; -1 off
   int uniqueness = 5;      ///< coarse level: best cost < (100 - this)% of the second best
   bool fill_unseeded = false;  ///< seed pixels without a coarse disparity from their row
+  /// Finest level: sub-pixel from two lines through the raw census costs summed over a
+  /// (2 r + 1)^2 box; 0: a parabola through the pixel's aggregated sums (locks onto whole
+  /// pixels, but the 4 cm layer's hole-free test proves more with it: docs/stereo.md).
+  int subpixel_radius = 0;
 };
 
 struct StereoConfig {
