@@ -69,7 +69,7 @@ TEST(C2fRealPairs, PolarIsDensePlausibleAndFillsTheFourCentimetreLayer) {
   const RealRun r = run_pair("polar_traverse_1m", "polar_traverse.yaml");
   const double share = valid_share(r.pipeline->disparity_x16(), r.pipeline->matcher().invalid_below());
   std::printf("POLAR c2f: %.1f %% of the pixels valid\n", 100 * share);
-  EXPECT_GE(share, 0.62);  // measured 0.646 (radius 3; 0.617 at radius 2, 0.552 with rows as calibrated); SGBM hh 0.684
+  EXPECT_GE(share, 0.58);  // measured 0.617 (rows corrected, 0.552 as calibrated); SGBM hh 0.684
   expect_ground_matches_mount(r, 0.05, 3.0);
 
   // Cells of the 4 cm layer whose centre (on the ground, z = 0) is 1.5-3 m from the point
@@ -109,7 +109,7 @@ TEST(C2fRealPairs, K10FillsTheNearestBouldersFace) {
   const int invalid = r.pipeline->matcher().invalid_below();
   const double share = valid_share(disp, invalid);
   std::printf("K10 c2f: %.1f %% of the pixels valid\n", 100 * share);
-  EXPECT_GE(share, 0.64);  // measured 0.665 (radius 3; 0.641 at radius 2); BM 0.369, SGBM hh 0.649
+  EXPECT_GE(share, 0.61);  // measured 0.641 (rows corrected); BM 0.369, SGBM hh 0.649
   expect_ground_matches_mount(r, 0.05, 3.0);
 
   // The face of the boulder 1.2 m ahead, inside its outline (raw left image, px).
