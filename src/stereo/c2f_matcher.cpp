@@ -324,26 +324,22 @@ void C2fMatcher::refine_subpixel(Level& L) const {
       const int y0 = std::max(0, y - r), y1 = std::min(h - 1, y + r);
       for (int x = 0; x < w; ++x) {
         if (disp[x] < 0) continue;
-        // The box's costs at dc - 1, dc, dc + 1.
-        const auto box = [&](int dc, int& s0, int& s1, int& s2) {
-          s0 = s1 = s2 = 0;
-          const int x0 = std::max(dc + 1, x - r), x1 = std::min(w - 1, x + r);
-          for (int yy = y0; yy <= y1; ++yy) {
-            const std::int16_t* dmin = L.dmin.data() + at(0, yy);
-            const std::uint8_t* cost = L.cost.data() + at(0, yy) * npad;
-            for (int xx = x0; xx <= x1; ++xx) {
-              const int k = dc - 1 - dmin[xx];  // kNoSeed: far above `last`
-              if (static_cast<unsigned>(k) > last) continue;
-              const std::uint8_t* c = cost + static_cast<std::size_t>(xx) * npad + k;
-              s0 += c[0];
-              s1 += c[1];
-              s2 += c[2];
-            }
-          }
-        };
+        // The box's costs at d - 1, d, d + 1.
         const int d = winner[x];
-        int s0, s1, s2;
-        box(d, s0, s1, s2);
+        const int x0 = std::max(d + 1, x - r), x1 = std::min(w - 1, x + r);
+        int s0 = 0, s1 = 0, s2 = 0;
+        for (int yy = y0; yy <= y1; ++yy) {
+          const std::int16_t* dmin = L.dmin.data() + at(0, yy);
+          const std::uint8_t* cost = L.cost.data() + at(0, yy) * npad;
+          for (int xx = x0; xx <= x1; ++xx) {
+            const int k = d - 1 - dmin[xx];  // kNoSeed: far above `last`
+            if (static_cast<unsigned>(k) > last) continue;
+            const std::uint8_t* c = cost + static_cast<std::size_t>(xx) * npad + k;
+            s0 += c[0];
+            s1 += c[1];
+            s2 += c[2];
+          }
+        }
         // The box's lowest sum beside the winner: the neighbours disagree with the
         // aggregation (a slope steep across the box, an edge); the pixel keeps the
         // aggregated parabola (clamping the lines' vertex to +-0.5 px instead proved

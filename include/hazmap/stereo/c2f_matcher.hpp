@@ -9,10 +9,10 @@
 // pixel's own window (a neighbour's disparities outside it cost as if unreachable),
 // winner-takes-all, a left-right check; the coarsest level also a uniqueness test (its
 // best against its second-best cost more than 1 px away: the per-pixel confidence), the
-// finest a parabola for sub-pixel disparities, through the raw census costs summed over a
-// box of neighbours at the pixel's three disparities (`subpixel_radius`; 0: through its
-// aggregated sums). Output: OpenCV's fixed
-// point (CV_16S, x16; (min_disparity - 1) x 16 where invalid), then the speckle filter.
+// finest sub-pixel disparities: a parabola through the pixel's aggregated sums or, with
+// `subpixel_radius` > 0, two lines through the raw census costs summed over a box of
+// neighbours at its three disparities. Output: OpenCV's fixed point (CV_16S, x16;
+// (min_disparity - 1) x 16 where invalid), then the speckle filter.
 //
 // Two kernel sets, the same integers: a scalar one (the reference) and AVX2, chosen at
 // run time (simd::has_avx2). Rows and columns run in strips on OpenCV's thread pool.
