@@ -63,6 +63,9 @@ struct NarrowRow {
   int n = 0;     ///< disparities per window, <= kNarrowMax
   int bits = 0;  ///< census bits: the cost where the right pixel lies outside the image
   int p1 = 0, p2 = 0;
+  /// Edge-aware P2: p2_of_diff[|image[x] - image[x -+ 1]|] replaces p2 (nullptr: p2).
+  const std::int16_t* p2_of_diff = nullptr;
+  const std::uint8_t* image = nullptr;  ///< this row of the left image (with p2_of_diff)
   const std::int16_t* dmin = nullptr;  ///< width; kNoSeed: no window
   const std::uint64_t* census_l = nullptr;
   const std::uint64_t* census_r = nullptr;
@@ -93,6 +96,10 @@ constexpr std::size_t state_at(int x) {
 struct NarrowColumnRow {
   int width = 0, n = 0, p1 = 0, p2 = 0;
   int x0 = 0, x1 = 0, dx = 0;
+  /// Edge-aware P2: p2_of_diff[|image[x] - prev_image[x - dx]|] replaces p2 (nullptr: p2).
+  const std::int16_t* p2_of_diff = nullptr;
+  const std::uint8_t* image = nullptr;       ///< this row of the left image
+  const std::uint8_t* prev_image = nullptr;  ///< the row before
   const std::int16_t* dmin = nullptr;       ///< this row
   const std::int16_t* prev_dmin = nullptr;  ///< the row before; nullptr: the path starts here
   const std::int16_t* prev = nullptr;       ///< its path costs, a state row (state_at)
@@ -105,6 +112,11 @@ struct NarrowColumnRow {
 };
 void column_row_narrow_scalar(const NarrowColumnRow& r);
 void column_row_narrow_avx2(const NarrowColumnRow& r);
+
+/// The edge-aware P2 of a step between intensities differing by `diff`.
+inline int edge_p2(const std::int16_t* p2_of_diff, int p2, int a, int b) {
+  return p2_of_diff ? p2_of_diff[a > b ? a - b : b - a] : p2;
+}
 
 /// Above every sum of path costs (<= 8 paths x (64 + p2 <= 4000) = 32512).
 constexpr std::uint16_t kNoSum = 0xFFFF;

@@ -85,6 +85,14 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
                 " levels shrink the " + std::to_string(image.width) + "x" +
                 std::to_string(image.height) + " image below the census window");
 
+  if (config.p2_edge > 0) {
+    // max(p1, p2 e / (e + D)), rounded: a jump across an edge of D DN costs less.
+    const int e = config.p2_edge;
+    p2_of_diff_.resize(256);
+    for (int d = 0; d < 256; ++d)
+      p2_of_diff_[static_cast<size_t>(d)] =
+          static_cast<std::int16_t>(std::max(config.p1, (config.p2 * e + (e + d) / 2) / (e + d)));
+  }
   levels_.resize(static_cast<size_t>(config.levels));
   cv::Size size = image;
   for (int l = 0; l < config.levels; ++l) {
@@ -413,9 +421,10 @@ void C2fMatcher::aggregate_rows(Level& L) {
   const int n = L.n, npad = L.npad, stride = L.stride;
   const int bits = config_.census_width * config_.census_height - 1;
   const PixelIndex at{w};
-  const c2f::StepParams sp = step_params(L);
   const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
+  const std::int16_t* lut = p2_lut();
   parallel_range(cv::Range(0, strips_), [&](const cv::Range& range) {
+    c2f::StepParams sp = step_params(L);
     for (int s = range.start; s < range.end; ++s) {
       std::vector<std::int16_t>& buffer = scratch_[static_cast<size_t>(s)];
       std::fill(buffer.begin(), buffer.end(), kInf);  // another level's lanes
@@ -429,7 +438,9 @@ void C2fMatcher::aggregate_rows(Level& L) {
         r.bits = bits;
         r.p1 = config_.p1;
         r.p2 = config_.p2;
+        r.p2_of_diff = p2_lut();
         for (int y = rows.start; y < rows.end; ++y) {
+          r.image = L.left.ptr<std::uint8_t>(y);
           r.dmin = L.dmin.data() + at(0, y);
           r.census_l = L.census_l.data() + at(0, y);
           r.census_r = L.census_r.data() + at(0, y);
@@ -449,7 +460,14 @@ void C2fMatcher::aggregate_rows(Level& L) {
           for (int i = 0, x = x0; i < w; ++i, x += dx) {
             const size_t p = at(x, y);
             const int d0 = L.dmin[p];
-            if (d0 == kNoSeed) { has_prev = false; continue; }
+            if (d0 == kNoSeed) {
+              has_prev = false;
+              continue;
+            }
+            if (lut && has_prev) {
+              const std::uint8_t* img = L.left.ptr<std::uint8_t>(y);
+              sp.p2 = c2f::edge_p2(lut, config_.p2, img[x], img[x - dx]);
+            }
             prev_min = step(has_prev ? prev : nullptr, prev_min, d0 - prev_dmin,
                             L.cost.data() + p * static_cast<size_t>(npad), sp, cur,
                             L.sum.data() + p * static_cast<size_t>(npad));
@@ -486,7 +504,8 @@ void C2fMatcher::column_pass(Level& L, int dx, int dy, cv::Range cols) const {
   const int w = L.size.width, h = L.size.height;
   const int npad = L.npad, stride = L.stride;
   const PixelIndex at{w};
-  const c2f::StepParams sp = step_params(L);
+  c2f::StepParams sp = step_params(L);
+  const std::int16_t* lut = p2_lut();
   const auto step = avx2_ ? c2f::step_avx2 : c2f::step_scalar;
   std::int16_t* rowbuf[2] = {L.state.data() + kPad,
                              L.state.data() + kPad + static_cast<size_t>(w) * stride};
@@ -507,6 +526,9 @@ void C2fMatcher::column_pass(Level& L, int dx, int dy, cv::Range cols) const {
       const int xq = x - dx;
       const bool has_prev = i > 0 && xq >= 0 && xq < w && L.dmin[at(xq, yq)] != kNoSeed;
       const int qd0 = has_prev ? L.dmin[at(xq, yq)] : 0;
+      if (lut && has_prev)
+        sp.p2 = c2f::edge_p2(lut, config_.p2, L.left.at<std::uint8_t>(y, x),
+                             L.left.at<std::uint8_t>(yq, xq));
       cmin[x] = step(has_prev ? prev + static_cast<size_t>(xq) * stride : nullptr,
                      has_prev ? pmin[xq] : 0, d0 - qd0,
                      L.cost.data() + p * static_cast<size_t>(npad), sp,
@@ -526,6 +548,7 @@ void C2fMatcher::column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) co
   r.n = L.n;
   r.p1 = config_.p1;
   r.p2 = config_.p2;
+  r.p2_of_diff = p2_lut();
   r.x0 = cols.start;
   r.x1 = cols.end;
   r.dx = dx;
@@ -534,6 +557,8 @@ void C2fMatcher::column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) co
   for (int i = 0, y = y0; i < h; ++i, y += dy) {
     r.dmin = L.dmin.data() + at(0, y);
     r.prev_dmin = i > 0 ? L.dmin.data() + at(0, y - dy) : nullptr;
+    r.image = L.left.ptr<std::uint8_t>(y);
+    r.prev_image = i > 0 ? L.left.ptr<std::uint8_t>(y - dy) : nullptr;
     r.prev = L.state.data() + static_cast<size_t>((i + 1) & 1) * c2f::state_row_lanes(w);
     r.prev_min = L.state_min.data() + static_cast<size_t>((i + 1) & 1) * w;
     r.cur = L.state.data() + static_cast<size_t>(i & 1) * c2f::state_row_lanes(w);

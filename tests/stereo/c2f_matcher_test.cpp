@@ -133,6 +133,162 @@ TEST(C2fMatcher, OneLevelWithoutPenaltiesIsBruteForceCensusWinnerTakesAll) {
   }
 }
 
+// Semi-global aggregation by brute force: one full-range level, 4 paths (left to right,
+// right to left, down, up), each path cost
+//   L(p, d) = C(p, d) + min(L(q, d), L(q, d -+ 1) + P1, min_d' L(q, d') + P2(p, q)) - min L(q),
+// with P2(p, q) = max(P1, round(P2 e / (e + |I_p - I_q|))) (edge-aware) or P2, then
+// winner-takes-all over their sum and the parabola through the sums. Unrelated images:
+// every cost and penalty matters. Both kernel sets, pixel by pixel.
+TEST(C2fMatcher, OneLevelIsBruteForceSemiGlobalAggregation) {
+  const cv::Size size(72, 36);
+  const cv::Mat left = texture(size, 41, 0.8);
+  const cv::Mat right = texture(size, 42, 0.8);
+  const int lo = 0, hi = 16, n = hi - lo, p1 = 8, p2 = 48;
+  const int w = size.width, h = size.height;
+  std::vector<int> cost(static_cast<size_t>(w * h * n));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::uint64_t cl = census_at(left, x, y, 5, 5);
+      for (int d = lo; d < hi; ++d)
+        cost[static_cast<size_t>((y * w + x) * n + d - lo)] =
+            x - d >= 0 ? __builtin_popcountll(cl ^ census_at(right, x - d, y, 5, 5)) : 24;
+    }
+  std::vector<cv::Mat> brute_by_edge;
+  for (const int edge : {0, 10}) {
+    auto penalty = [&](int x, int y, int xq, int yq) {
+      if (edge == 0) return p2;
+      const int diff = std::abs(left.at<std::uint8_t>(y, x) - left.at<std::uint8_t>(yq, xq));
+      return std::max(
+          p1, static_cast<int>(std::lround(static_cast<double>(p2) * edge / (edge + diff))));
+    };
+    std::vector<long> sum(cost.size(), 0);
+    const int dirs[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    for (const auto& dir : dirs) {
+      std::vector<long> path(cost.size(), 0);
+      const int dx = dir[0], dy = dir[1];
+      // Visit pixels so that each one's predecessor (x - dx, y - dy) comes first.
+      for (int iy = 0; iy < h; ++iy)
+        for (int ix = 0; ix < w; ++ix) {
+          const int x = dx < 0 ? w - 1 - ix : ix, y = dy < 0 ? h - 1 - iy : iy;
+          const int xq = x - dx, yq = y - dy;
+          const bool first = xq < 0 || xq >= w || yq < 0 || yq >= h;
+          long* lp = &path[static_cast<size_t>((y * w + x) * n)];
+          const int* c = &cost[static_cast<size_t>((y * w + x) * n)];
+          if (first) {
+            for (int k = 0; k < n; ++k) lp[k] = c[k];
+            continue;
+          }
+          const long* lq = &path[static_cast<size_t>((yq * w + xq) * n)];
+          const long mq = *std::min_element(lq, lq + n);
+          const int jump = penalty(x, y, xq, yq);
+          for (int k = 0; k < n; ++k) {
+            long best = std::min(lq[k], mq + jump);
+            if (k > 0) best = std::min(best, lq[k - 1] + p1);
+            if (k < n - 1) best = std::min(best, lq[k + 1] + p1);
+            lp[k] = c[k] + best - mq;
+          }
+        }
+      for (size_t i = 0; i < sum.size(); ++i) sum[i] += path[i];
+    }
+    cv::Mat brute(size, CV_16SC1, cv::Scalar(-16));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const long* s = &sum[static_cast<size_t>((y * w + x) * n)];
+        const int kb = static_cast<int>(std::min_element(s, s + n) - s);
+        if (x - lo - kb < 0) continue;
+        double d = lo + kb;
+        if (kb > 0 && kb < n - 1) {
+          const long denom = s[kb - 1] + s[kb + 1] - 2 * s[kb];
+          if (denom > 0)
+            d += static_cast<float>(s[kb - 1] - s[kb + 1]) / static_cast<float>(2 * denom);
+        }
+        brute.at<std::int16_t>(y, x) =
+            static_cast<std::int16_t>(std::lround(16 * static_cast<float>(d)));
+      }
+    brute_by_edge.push_back(brute);
+    C2fConfig c = plain_config();
+    c.levels = 1;
+    c.p1 = p1;
+    c.p2 = p2;
+    c.p2_edge = edge;
+    c.lr_max_diff = -1;
+    c.uniqueness = 0;
+    c.census_width = 5;
+    c.census_height = 5;
+    c.subpixel_radius = 0;
+    for (const C2fKernels kernels : {C2fKernels::scalar, C2fKernels::best}) {
+      C2fMatcher matcher(c, lo, hi, size, 0, 0, kernels);
+      cv::Mat disp;
+      matcher.compute(left, right, disp);
+      int differ = 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          differ += disp.at<std::int16_t>(y, x) != brute.at<std::int16_t>(y, x);
+      EXPECT_EQ(differ, 0) << "p2_edge " << edge
+                           << (kernels == C2fKernels::scalar ? ", scalar" : ", best");
+    }
+  }
+  // The edge term changes the result (else this test would not test it).
+  EXPECT_GT(cv::countNonZero(brute_by_edge[0] != brute_by_edge[1]), size.area() / 20);
+}
+
+// A brighter square at 31 px in front of a plane at 13 px, its outline an edge of the
+// left image: with a large P2 the aggregation carries the plane's disparity into the
+// square's border pixels (and the square's into the plane); edge-aware P2 lets the
+// disparity jump where the intensity does. Pixels within 4 px of the outline (outside
+// the band the square hides in the right image) off by >= 1 px: measured 0 -> 0.
+TEST(C2fMatcher, EdgeAwareP2KeepsAnOutlineSharp) {
+  const cv::Size size(240, 160);
+  const cv::Mat wide = texture(cv::Size(size.width + 64, size.height), 5);
+  cv::Mat left = wide(cv::Rect(0, 0, size.width, size.height)).clone();
+  cv::Mat truth_left(size, CV_32S, cv::Scalar(13));
+  const cv::Rect square(110, 50, 60, 60);
+  truth_left(square).setTo(31);
+  // The square's texture is brighter: its left-image pixels and their right-image copies.
+  cv::Mat source = wide.clone();
+  cv::Mat lifted;
+  wide(cv::Rect(0, 0, size.width, size.height))(square).convertTo(lifted, CV_8U, 0.5, 120);
+  lifted.copyTo(source(cv::Rect(0, 0, size.width, size.height))(square));
+  left = source(cv::Rect(0, 0, size.width, size.height)).clone();
+  cv::Mat right(size, CV_8UC1, cv::Scalar(0));
+  cv::Mat zbuf(size, CV_32S, cv::Scalar(-1));
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width + 64; ++x) {
+      const int d = x < size.width ? truth_left.at<int>(y, x) : 13;
+      const int xr = x - d;
+      if (xr < 0 || xr >= size.width) continue;
+      if (d > zbuf.at<int>(y, xr)) {
+        zbuf.at<int>(y, xr) = d;
+        right.at<std::uint8_t>(y, xr) = source.at<std::uint8_t>(y, x);
+      }
+    }
+  std::vector<int> wrong_by_edge;
+  for (const int edge : {0, 8}) {
+    C2fConfig c = plain_config();
+    c.p2 = 160;
+    c.p2_edge = edge;
+    C2fMatcher matcher(c, 0, 48, size, 0, 0);
+    cv::Mat disp;
+    matcher.compute(left, right, disp);
+    int band = 0, wrong = 0;
+    const cv::Rect grown(square.x - 4, square.y - 4, square.width + 8, square.height + 8);
+    const cv::Rect inner(square.x + 4, square.y + 4, square.width - 8, square.height - 8);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        if (!grown.contains({x, y}) || inner.contains({x, y})) continue;
+        if (y >= square.y && y < square.y + square.height && x >= square.x - 31 && x < square.x)
+          continue;
+        ++band;
+        const int v = disp.at<std::int16_t>(y, x);
+        if (v < 0 || std::abs(v / 16.0 - truth_left.at<int>(y, x)) >= 1.0) ++wrong;
+      }
+    std::printf("p2_edge %d: %d of %d outline pixels invalid or off by >= 1 px\n", edge, wrong,
+                band);
+    wrong_by_edge.push_back(wrong);
+  }
+  EXPECT_LT(wrong_by_edge[1], wrong_by_edge[0]);
+}
+
 // A textured plane at a constant disparity of 12, 12.25, 12.5 and 12.75 px (both images
 // area-averaged from one texture 4 x finer, so the shift is exact): the mean error over
 // the image at each quarter. The parabola through one pixel's aggregated sums is drawn
@@ -258,21 +414,23 @@ TEST(C2fMatcher, Avx2KernelsEqualTheScalarReference) {
   cv::add(right, noise, right);
   for (const int paths : {4, 8})
     for (const bool fill : {false, true})
-      for (const int levels : {1, 3}) {
-        C2fConfig c = plain_config();
-        c.paths = paths;
-        c.fill_unseeded = fill;
-        c.levels = levels;
-        C2fMatcher scalar(c, 0, 64, size, 50, 1, C2fKernels::scalar);
-        C2fMatcher fast(c, 0, 64, size, 50, 1, C2fKernels::best);
-        if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
-        cv::Mat a, b;
-        scalar.compute(left, right, a);
-        fast.compute(left, right, b);
-        EXPECT_EQ(cv::countNonZero(a != b), 0) << paths << " paths, fill " << fill << ", "
-                                               << levels << " levels";
-        EXPECT_GT(cv::countNonZero(a > 0), size.area() / 2);
-      }
+      for (const int levels : {1, 3})
+        for (const int edge : {0, 12}) {
+          C2fConfig c = plain_config();
+          c.p2_edge = edge;
+          c.paths = paths;
+          c.fill_unseeded = fill;
+          c.levels = levels;
+          C2fMatcher scalar(c, 0, 64, size, 50, 1, C2fKernels::scalar);
+          C2fMatcher fast(c, 0, 64, size, 50, 1, C2fKernels::best);
+          if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+          cv::Mat a, b;
+          scalar.compute(left, right, a);
+          fast.compute(left, right, b);
+          EXPECT_EQ(cv::countNonZero(a != b), 0)
+              << paths << " paths, fill " << fill << ", " << levels << " levels, p2_edge " << edge;
+          EXPECT_GT(cv::countNonZero(a > 0), size.area() / 2);
+        }
 }
 
 // The same for every kernel a level can use: the 8-lane narrow passes (radius 1-3,
@@ -289,27 +447,29 @@ TEST(C2fMatcher, Avx2KernelsEqualTheScalarReferenceForEveryWindow) {
   cv::randn(noise, 0, 8);
   cv::add(right, noise, right);
   struct Case { int radius, cw, ch; };
-  for (const Case k : {Case{1, 9, 7}, Case{2, 5, 3}, Case{3, 5, 5}, Case{7, 7, 3}}) {
-    C2fConfig c = plain_config();
-    c.radius = k.radius;
-    c.census_width = k.cw;
-    c.census_height = k.ch;
-    c.levels = 3;
-    C2fMatcher scalar(c, 0, 48, size, 0, 0, C2fKernels::scalar);
-    C2fMatcher fast(c, 0, 48, size, 0, 0, C2fKernels::best);
-    if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
-    cv::Mat a, b;
-    scalar.compute(left, right, a);
-    fast.compute(left, right, b);
-    EXPECT_EQ(cv::countNonZero(a != b), 0) << "radius " << k.radius << ", census " << k.cw
-                                           << " x " << k.ch;
-    EXPECT_EQ(cv::countNonZero(scalar.confidence() != fast.confidence()), 0);
-    EXPECT_EQ(scalar.valid_by_level(), fast.valid_by_level());
-    // Something to compare: the finest level keeps over a quarter of the pixels (radius
-    // 1 the fewest: 31 %).
-    EXPECT_GT(scalar.valid_by_level()[0], static_cast<size_t>(size.area() / 4))
-        << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
-  }
+  for (const Case k : {Case{1, 9, 7}, Case{2, 5, 3}, Case{3, 5, 5}, Case{7, 7, 3}})
+    for (const int edge : {0, 12}) {
+      C2fConfig c = plain_config();
+      c.p2_edge = edge;
+      c.radius = k.radius;
+      c.census_width = k.cw;
+      c.census_height = k.ch;
+      c.levels = 3;
+      C2fMatcher scalar(c, 0, 48, size, 0, 0, C2fKernels::scalar);
+      C2fMatcher fast(c, 0, 48, size, 0, 0, C2fKernels::best);
+      if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+      cv::Mat a, b;
+      scalar.compute(left, right, a);
+      fast.compute(left, right, b);
+      EXPECT_EQ(cv::countNonZero(a != b), 0)
+          << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
+      EXPECT_EQ(cv::countNonZero(scalar.confidence() != fast.confidence()), 0);
+      EXPECT_EQ(scalar.valid_by_level(), fast.valid_by_level());
+      // Something to compare: the finest level keeps over a quarter of the pixels (radius
+      // 1 the fewest: 31 %).
+      EXPECT_GT(scalar.valid_by_level()[0], static_cast<size_t>(size.area() / 4))
+          << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
+    }
 }
 
 // Census compares pixels with their neighbours only: a right image at 0.6 x + 20 DN

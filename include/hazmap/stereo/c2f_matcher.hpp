@@ -6,7 +6,8 @@
 // level's disparity at its place. Every level: census transform (a bit per window pixel
 // darker than the centre: invariant to gain and offset), cost = differing bits
 // (popcount), semi-global aggregation along 4 or 8 paths with penalties P1 / P2 over each
-// pixel's own window (a neighbour's disparities outside it cost as if unreachable),
+// pixel's own window (a neighbour's disparities outside it cost as if unreachable;
+// with p2_edge the jump penalty falls where the left image has an edge),
 // winner-takes-all, a left-right check; the coarsest level also a uniqueness test (its
 // best against its second-best cost more than 1 px away: the per-pixel confidence), the
 // finest sub-pixel disparities: a parabola through the pixel's aggregated sums or, with
@@ -84,6 +85,8 @@ class C2fMatcher {
   SpeckleFilter speckle_;
   std::vector<int> pyramid_row_;  // per strip one source row, filtered vertically
   std::vector<std::size_t> valid_by_level_;
+  std::vector<std::int16_t> p2_of_diff_;  // 256 entries with stereo.c2f.p2_edge, else empty
+  const std::int16_t* p2_lut() const { return p2_of_diff_.empty() ? nullptr : p2_of_diff_.data(); }
 };
 
 }  // namespace hazmap

@@ -57,6 +57,9 @@ struct C2fConfig {
   int census_height = 7;
   int p1 = 32;             ///< SGM penalty for a 1 px disparity step (census bits)
   int p2 = 200;            ///< SGM penalty for a larger step (census bits), >= p1
+  /// Edge-aware P2 [DN]: a path step between pixels whose left-image intensities differ
+  /// by D pays max(p1, p2 e / (e + D)) for a jump (an object's outline may jump); 0: p2.
+  int p2_edge = 0;
   int paths = 4;           ///< SGM paths: 4 (rows and columns) or 8 (and diagonals)
   int lr_max_diff = 1;     ///< left-right check at every level [px]; -1 off
   int uniqueness = 5;      ///< coarse level: best cost < (100 - this)% of the second best
