@@ -392,10 +392,9 @@ HAZMAP_AVX2_KERNEL void column_row_narrow_avx2(const NarrowColumnRow& r) {
       const __m128i same = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
       const __m128i below = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q - 1));
       const __m128i above = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q + 1));
-      const __m128i step_p2 =
-          p2_of_diff
-              ? _mm_set1_epi16(static_cast<short>(edge_p2(p2_of_diff, 0, image[x], prev_image[xq])))
-              : p2;
+      const __m128i step_p2 = p2_of_diff ? _mm_set1_epi16(static_cast<short>(
+                                               edge_p2(p2_of_diff, r.p2, image[x], prev_image[xq])))
+                                         : p2;
       __m128i best = _mm_min_epi16(same, _mm_add_epi16(base, step_p2));
       best = _mm_min_epi16(best, _mm_add_epi16(_mm_min_epi16(below, above), p1));
       v = _mm_add_epi16(v, _mm_sub_epi16(best, base));

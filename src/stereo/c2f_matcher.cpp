@@ -438,7 +438,7 @@ void C2fMatcher::aggregate_rows(Level& L) {
         r.bits = bits;
         r.p1 = config_.p1;
         r.p2 = config_.p2;
-        r.p2_of_diff = p2_lut();
+        r.p2_of_diff = lut;
         for (int y = rows.start; y < rows.end; ++y) {
           r.image = L.left.ptr<std::uint8_t>(y);
           r.dmin = L.dmin.data() + at(0, y);

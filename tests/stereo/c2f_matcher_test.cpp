@@ -236,7 +236,9 @@ TEST(C2fMatcher, OneLevelIsBruteForceSemiGlobalAggregation) {
 // left image: with a large P2 the aggregation carries the plane's disparity into the
 // square's border pixels (and the square's into the plane); edge-aware P2 lets the
 // disparity jump where the intensity does. Pixels within 4 px of the outline (outside
-// the band the square hides in the right image) off by >= 1 px: measured 0 -> 0.
+// the band the square hides in the right image) invalid or off by >= 1 px: measured 782
+// -> 560 of 1680 with p2 160 and e 8 (most of the rest are the left-right check's holes
+// at the occlusion); asked: at least a fifth fewer.
 TEST(C2fMatcher, EdgeAwareP2KeepsAnOutlineSharp) {
   const cv::Size size(240, 160);
   const cv::Mat wide = texture(cv::Size(size.width + 64, size.height), 5);
@@ -286,7 +288,7 @@ TEST(C2fMatcher, EdgeAwareP2KeepsAnOutlineSharp) {
                 band);
     wrong_by_edge.push_back(wrong);
   }
-  EXPECT_LT(wrong_by_edge[1], wrong_by_edge[0]);
+  EXPECT_LT(wrong_by_edge[1], wrong_by_edge[0] * 4 / 5);
 }
 
 // A textured plane at a constant disparity of 12, 12.25, 12.5 and 12.75 px (both images
