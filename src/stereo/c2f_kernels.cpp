@@ -92,8 +92,7 @@ void rows_narrow_scalar(const NarrowRow& r) {
         for (int k = 0; k < kNarrow; ++k) cost[k] = static_cast<std::uint8_t>(c >> (8 * k));
         std::fill(zero, zero + kNarrow, 0);
       }
-      if (has_prev && r.p2_of_diff)
-        sp.p2 = edge_p2(r.p2_of_diff, r.p2, r.image[x], r.image[x - dx]);
+      if (has_prev && r.p2_of_diff) sp.p2 = edge_p2(r.p2_of_diff, r.image[x], r.image[x - dx]);
       prev_min = step_scalar(has_prev ? prev : nullptr, prev_min, d0 - prev_dmin, cost, sp, cur,
                              dir == 0 ? zero : sum);
       if (dir == 0) std::copy(zero, zero + kNarrow, sum);
@@ -118,7 +117,7 @@ void column_row_narrow_scalar(const NarrowColumnRow& r) {
         r.prev_dmin != nullptr && xq >= 0 && xq < r.width && r.prev_dmin[xq] != kNoSeed;
     const std::size_t p = static_cast<std::size_t>(x) * kNarrow;
     const std::size_t q = state_at(has_prev ? xq : 0);
-    if (has_prev && r.p2_of_diff) sp.p2 = edge_p2(r.p2_of_diff, r.p2, r.image[x], r.prev_image[xq]);
+    if (has_prev && r.p2_of_diff) sp.p2 = edge_p2(r.p2_of_diff, r.image[x], r.prev_image[xq]);
     r.cur_min[x] = step_scalar(has_prev ? r.prev + q : nullptr, has_prev ? r.prev_min[xq] : 0,
                                d0 - (has_prev ? r.prev_dmin[xq] : 0), r.cost + p, sp,
                                r.cur + state_at(x), r.sum + p);
@@ -345,7 +344,7 @@ HAZMAP_AVX2_KERNEL void rows_narrow_avx2(const NarrowRow& row) {
       }
       const __m128i step_p2 = r.p2_of_diff && has_prev
                                   ? _mm_set1_epi16(static_cast<short>(
-                                        edge_p2(r.p2_of_diff, r.p2, r.image[x], r.image[x - dx])))
+                                        edge_p2(r.p2_of_diff, r.image[x], r.image[x - dx])))
                                   : p2;
       const __m128i v =
           narrow_step(lq, base, d0 - prev_dmin, has_prev, _mm_cvtepu8_epi16(c), p1, step_p2, mask);
@@ -392,9 +391,10 @@ HAZMAP_AVX2_KERNEL void column_row_narrow_avx2(const NarrowColumnRow& r) {
       const __m128i same = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
       const __m128i below = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q - 1));
       const __m128i above = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q + 1));
-      const __m128i step_p2 = p2_of_diff ? _mm_set1_epi16(static_cast<short>(
-                                               edge_p2(p2_of_diff, r.p2, image[x], prev_image[xq])))
-                                         : p2;
+      const __m128i step_p2 =
+          p2_of_diff
+              ? _mm_set1_epi16(static_cast<short>(edge_p2(p2_of_diff, image[x], prev_image[xq])))
+              : p2;
       __m128i best = _mm_min_epi16(same, _mm_add_epi16(base, step_p2));
       best = _mm_min_epi16(best, _mm_add_epi16(_mm_min_epi16(below, above), p1));
       v = _mm_add_epi16(v, _mm_sub_epi16(best, base));

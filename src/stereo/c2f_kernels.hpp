@@ -114,9 +114,9 @@ void column_row_narrow_scalar(const NarrowColumnRow& r);
 void column_row_narrow_avx2(const NarrowColumnRow& r);
 
 /// The jump penalty of a path step between grey values a and b: the edge-aware table's
-/// entry for |a - b|, or p2 without a table.
-inline int edge_p2(const std::int16_t* p2_of_diff, int p2, int a, int b) {
-  return p2_of_diff ? p2_of_diff[a > b ? a - b : b - a] : p2;
+/// entry for |a - b| (callers without a table keep the plain p2).
+inline int edge_p2(const std::int16_t* p2_of_diff, int a, int b) {
+  return p2_of_diff[a > b ? a - b : b - a];
 }
 
 /// Above every sum of path costs (<= 8 paths x (64 + p2 <= 4000) = 32512).

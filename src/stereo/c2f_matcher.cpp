@@ -466,7 +466,7 @@ void C2fMatcher::aggregate_rows(Level& L) {
             }
             if (lut && has_prev) {
               const std::uint8_t* img = L.left.ptr<std::uint8_t>(y);
-              sp.p2 = c2f::edge_p2(lut, config_.p2, img[x], img[x - dx]);
+              sp.p2 = c2f::edge_p2(lut, img[x], img[x - dx]);
             }
             prev_min = step(has_prev ? prev : nullptr, prev_min, d0 - prev_dmin,
                             L.cost.data() + p * static_cast<size_t>(npad), sp, cur,
@@ -527,8 +527,7 @@ void C2fMatcher::column_pass(Level& L, int dx, int dy, cv::Range cols) const {
       const bool has_prev = i > 0 && xq >= 0 && xq < w && L.dmin[at(xq, yq)] != kNoSeed;
       const int qd0 = has_prev ? L.dmin[at(xq, yq)] : 0;
       if (lut && has_prev)
-        sp.p2 = c2f::edge_p2(lut, config_.p2, L.left.at<std::uint8_t>(y, x),
-                             L.left.at<std::uint8_t>(yq, xq));
+        sp.p2 = c2f::edge_p2(lut, L.left.at<std::uint8_t>(y, x), L.left.at<std::uint8_t>(yq, xq));
       cmin[x] = step(has_prev ? prev + static_cast<size_t>(xq) * stride : nullptr,
                      has_prev ? pmin[xq] : 0, d0 - qd0,
                      L.cost.data() + p * static_cast<size_t>(npad), sp,

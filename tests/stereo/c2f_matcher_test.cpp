@@ -2,18 +2,20 @@
 // computations: a brute-force census + winner-takes-all, pairs with known disparities,
 // the scalar kernels against the AVX2 ones, and a gain / offset change of one image.
 
+#include "hazmap/stereo/c2f_matcher.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <random>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "hazmap/core/error.hpp"
-#include "hazmap/stereo/c2f_matcher.hpp"
 
 namespace hazmap {
 namespace {
@@ -56,6 +58,47 @@ std::uint64_t census_at(const cv::Mat& img, int x, int y, int cw, int ch) {
       code = (code << 1) | (img.at<std::uint8_t>(yy, xx) < c ? 1u : 0u);
     }
   return code;
+}
+
+// The right image of a scene whose left pixels have the integer disparities `truth_left`,
+// by forward warping `source` (the left image, wider by the background continuing past
+// its right edge at disparity `background_d`): nearer pixels win, occluded ones stay 0.
+cv::Mat warp_right(const cv::Mat& source, const cv::Mat& truth_left, int background_d) {
+  const cv::Size size = truth_left.size();
+  cv::Mat right(size, CV_8UC1, cv::Scalar(0));
+  cv::Mat zbuf(size, CV_32S, cv::Scalar(-1));
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < source.cols; ++x) {
+      const int d = x < size.width ? truth_left.at<int>(y, x) : background_d;
+      const int xr = x - d;
+      if (xr < 0 || xr >= size.width) continue;
+      if (d > zbuf.at<int>(y, xr)) {
+        zbuf.at<int>(y, xr) = d;
+        right.at<std::uint8_t>(y, xr) = source.at<std::uint8_t>(y, x);
+      }
+    }
+  return right;
+}
+
+// The scalar and the AVX2 matcher on one pair with configuration c: equal disparities
+// and confidences (`what` names the case in a failure). Returns the scalar matcher's
+// valid pixels per level, or nothing without AVX2.
+std::vector<size_t> expect_kernels_agree(const C2fConfig& c, int num_disparities,
+                                         const cv::Mat& left, const cv::Mat& right,
+                                         int speckle_window, int speckle_range,
+                                         const std::string& what) {
+  C2fMatcher scalar(c, 0, num_disparities, left.size(), speckle_window, speckle_range,
+                    C2fKernels::scalar);
+  C2fMatcher fast(c, 0, num_disparities, left.size(), speckle_window, speckle_range,
+                  C2fKernels::best);
+  if (!fast.uses_avx2()) return {};
+  cv::Mat a, b;
+  scalar.compute(left, right, a);
+  fast.compute(left, right, b);
+  EXPECT_EQ(cv::countNonZero(a != b), 0) << what;
+  EXPECT_EQ(cv::countNonZero(scalar.confidence() != fast.confidence()), 0) << what;
+  EXPECT_EQ(scalar.valid_by_level(), fast.valid_by_level()) << what;
+  return scalar.valid_by_level();
 }
 
 // With P1 = P2 = 0 the aggregation adds nothing (every path cost is the pixel's own
@@ -252,18 +295,7 @@ TEST(C2fMatcher, EdgeAwareP2KeepsAnOutlineSharp) {
   wide(cv::Rect(0, 0, size.width, size.height))(square).convertTo(lifted, CV_8U, 0.5, 120);
   lifted.copyTo(source(cv::Rect(0, 0, size.width, size.height))(square));
   left = source(cv::Rect(0, 0, size.width, size.height)).clone();
-  cv::Mat right(size, CV_8UC1, cv::Scalar(0));
-  cv::Mat zbuf(size, CV_32S, cv::Scalar(-1));
-  for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width + 64; ++x) {
-      const int d = x < size.width ? truth_left.at<int>(y, x) : 13;
-      const int xr = x - d;
-      if (xr < 0 || xr >= size.width) continue;
-      if (d > zbuf.at<int>(y, xr)) {
-        zbuf.at<int>(y, xr) = d;
-        right.at<std::uint8_t>(y, xr) = source.at<std::uint8_t>(y, x);
-      }
-    }
+  const cv::Mat right = warp_right(source, truth_left, 13);
   std::vector<int> wrong_by_edge;
   for (const int edge : {0, 8}) {
     C2fConfig c = plain_config();
@@ -356,20 +388,7 @@ TEST(C2fMatcher, FindsKnownPlanesAndAStepExactly) {
     cv::Mat truth_left(size, CV_32S, cv::Scalar(step ? 13 : 17));
     const cv::Rect square(110, 50, 60, 60);
     if (step) truth_left(square).setTo(31);
-    // Build the right image by forward warping the left: nearer pixels win.
-    cv::Mat right(size, CV_8UC1, cv::Scalar(0));
-    cv::Mat zbuf(size, CV_32S, cv::Scalar(-1));
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width + 64; ++x) {
-        // Left pixel x (beyond the image: the background's texture continues).
-        const int d = x < size.width ? truth_left.at<int>(y, x) : (step ? 13 : 17);
-        const int xr = x - d;
-        if (xr < 0 || xr >= size.width) continue;
-        if (d > zbuf.at<int>(y, xr)) {
-          zbuf.at<int>(y, xr) = d;
-          right.at<std::uint8_t>(y, xr) = wide.at<std::uint8_t>(y, x);
-        }
-      }
+    const cv::Mat right = warp_right(wide, truth_left, step ? 13 : 17);
     C2fMatcher matcher(plain_config(), 0, 48, size, 0, 0);
     cv::Mat disp;
     matcher.compute(left, right, disp);
@@ -423,15 +442,13 @@ TEST(C2fMatcher, Avx2KernelsEqualTheScalarReference) {
           c.paths = paths;
           c.fill_unseeded = fill;
           c.levels = levels;
-          C2fMatcher scalar(c, 0, 64, size, 50, 1, C2fKernels::scalar);
-          C2fMatcher fast(c, 0, 64, size, 50, 1, C2fKernels::best);
-          if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
-          cv::Mat a, b;
-          scalar.compute(left, right, a);
-          fast.compute(left, right, b);
-          EXPECT_EQ(cv::countNonZero(a != b), 0)
-              << paths << " paths, fill " << fill << ", " << levels << " levels, p2_edge " << edge;
-          EXPECT_GT(cv::countNonZero(a > 0), size.area() / 2);
+          const std::string what = std::to_string(paths) + " paths, fill " + std::to_string(fill) +
+                                   ", " + std::to_string(levels) + " levels, p2_edge " +
+                                   std::to_string(edge);
+          const std::vector<size_t> valid = expect_kernels_agree(c, 64, left, right, 50, 1, what);
+          if (valid.empty()) GTEST_SKIP() << "no AVX2 on this CPU";
+          // Something to compare: over half the pixels valid.
+          EXPECT_GT(valid[0], static_cast<size_t>(size.area() / 2)) << what;
         }
 }
 
@@ -457,20 +474,14 @@ TEST(C2fMatcher, Avx2KernelsEqualTheScalarReferenceForEveryWindow) {
       c.census_width = k.cw;
       c.census_height = k.ch;
       c.levels = 3;
-      C2fMatcher scalar(c, 0, 48, size, 0, 0, C2fKernels::scalar);
-      C2fMatcher fast(c, 0, 48, size, 0, 0, C2fKernels::best);
-      if (!fast.uses_avx2()) GTEST_SKIP() << "no AVX2 on this CPU";
-      cv::Mat a, b;
-      scalar.compute(left, right, a);
-      fast.compute(left, right, b);
-      EXPECT_EQ(cv::countNonZero(a != b), 0)
-          << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
-      EXPECT_EQ(cv::countNonZero(scalar.confidence() != fast.confidence()), 0);
-      EXPECT_EQ(scalar.valid_by_level(), fast.valid_by_level());
+      const std::string what = "radius " + std::to_string(k.radius) + ", census " +
+                               std::to_string(k.cw) + " x " + std::to_string(k.ch) + ", p2_edge " +
+                               std::to_string(edge);
+      const std::vector<size_t> valid = expect_kernels_agree(c, 48, left, right, 0, 0, what);
+      if (valid.empty()) GTEST_SKIP() << "no AVX2 on this CPU";
       // Something to compare: the finest level keeps over a quarter of the pixels (radius
       // 1 the fewest: 31 %).
-      EXPECT_GT(scalar.valid_by_level()[0], static_cast<size_t>(size.area() / 4))
-          << "radius " << k.radius << ", census " << k.cw << " x " << k.ch;
+      EXPECT_GT(valid[0], static_cast<size_t>(size.area() / 4)) << what;
     }
 }
 
