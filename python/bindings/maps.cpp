@@ -254,6 +254,14 @@ call .copy() on what you want to keep. Grids a rule does not fill are None.)");
   layer.def_property_readonly("hazard", [](const LayerHandle& h) {
     return grid_view(h.view().hazard, h.owner);
   }, "Hazard class per cell: hazmap.UNKNOWN (0), TRAVERSABLE (1), HAZARD (2), as float32.");
+  layer.def_property_readonly(
+      "viewed", [](const LayerHandle& h) { return grid_view(h.view().viewed, h.owner); },
+      "How much of each cell the stereo pair has looked at: 0 never, 1 partly, 2 wholly "
+      "(hazard.partial_ring_proof: view_edge); None otherwise.");
+  layer.def_property_readonly(
+      "seen_whole", [](const LayerHandle& h) { return grid_view(h.view().seen_whole, h.owner); },
+      "Hole-free marks: 0 none, 1 a frame's disparity image saw the cell whole, 2 a hole seen "
+      "(final) (map.layers.N.hole_free_coverage); None otherwise.");
   layer.def("grids", [](const LayerHandle& h) {
     py::dict d;
     for (const LayerGridField& f : kLayerGrids)

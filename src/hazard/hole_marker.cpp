@@ -15,6 +15,7 @@ struct Camera {
   Eigen::Vector3d origin_W;
   double u_lo, u_hi, v_lo, v_hi;  ///< the pixel centres that may give points, inclusive
   double fb;
+  double ur_lo;  ///< the right image's first column a match may fall on
   double z_far;  ///< z_max, or nearer: the layer's lateral gate
 
   Camera(const SensorView& v, double max_depth_m) : view(v), z_far(std::min(v.z_max_m, max_depth_m)) {
@@ -28,15 +29,19 @@ struct Camera {
     v_lo = std::max(double(v.roi_y0), m);
     v_hi = std::min(double(v.roi_y1 - 1), v.height_px - 1 - m);
     fb = v.focal_px * v.baseline_m;
+    ur_lo = v.right_edge_margin_px > 0 ? v.right_edge_margin_px : -1e300;
   }
 
-  /// Projects W point p; false outside the depth range or the pixels that give points.
+  /// Projects W point p; false outside the depth range or the pixels that give points,
+  /// or where its match falls off the right image (within its margin): the pair cannot
+  /// have matched it, so a missing disparity there is no hole.
   bool project(const Eigen::Vector3d& p, double* u, double* w) const {
     const Eigen::Vector3d c = T_C_W * p;
     if (!(c.z() >= view.z_min_m && c.z() <= z_far)) return false;
     *u = view.cx_px + view.focal_px * c.x() / c.z();
     *w = view.cy_px + view.focal_px * c.y() / c.z();
-    return *u >= u_lo - 0.5 && *u <= u_hi + 0.5 && *w >= v_lo - 0.5 && *w <= v_hi + 0.5;
+    return *u >= u_lo - 0.5 && *u <= u_hi + 0.5 && *w >= v_lo - 0.5 && *w <= v_hi + 0.5 &&
+           *u - fb / c.z() >= ur_lo - 0.5;
   }
 
   float test(double x0, double x1, double y0, double y1, double z, double tol) const {

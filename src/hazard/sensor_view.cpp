@@ -9,15 +9,17 @@
 namespace hazmap {
 namespace {
 
-/// The view as six half-spaces in W, computed once per frame: a point p is seen when
+/// The view as seven half-spaces in W, computed once per frame: a point p is seen when
 /// a_i . p + b_i >= 0 for all i (depth z_min .. z_max, the matchable image's four
-/// edges; for depth > 0, u >= u0 is f X + (cx - u0) Z >= 0, and likewise). A vertical
-/// segment is clipped against them (Liang-Barsky), which projecting it would equal.
+/// edges; for depth > 0, u >= u0 is f X + (cx - u0) Z >= 0, and likewise; and the right
+/// image's left edge, u - f B / Z >= m: f X + (cx - m) Z - f B >= 0). A vertical segment
+/// is clipped against them (Liang-Barsky), which projecting it would equal.
 struct Projector {
   const SensorView& view;
   Eigen::Vector3d normal, origin;  ///< the wheel plane in W
-  Eigen::Vector3d a[6];
-  double b[6];
+  static constexpr int kPlanes = 7;
+  Eigen::Vector3d a[kPlanes];
+  double b[kPlanes];
   double x_min, x_max, y_min, y_max;  ///< W bounds of the frustum: nothing seen outside
 
   explicit Projector(const SensorView& v)
@@ -27,10 +29,21 @@ struct Projector {
     const double u0 = std::max(m, v.blank_left_px) - 0.5, u1 = v.width_px - 0.5 - m;
     const double v0 = m - 0.5, v1 = v.height_px - 0.5 - m;
     // Camera-frame planes n . p_C + c >= 0.
-    const Eigen::Vector3d n[6] = {{0, 0, 1},  {0, 0, -1},         {f, 0, v.cx_px - u0},
-                                  {-f, 0, u1 - v.cx_px}, {0, f, v.cy_px - v0}, {0, -f, v1 - v.cy_px}};
-    const double c[6] = {-std::max(v.z_min_m, 1e-3), v.z_max_m, 0, 0, 0, 0};
-    for (int i = 0; i < 6; ++i) {  // n . (R p_W + t) + c
+    // The right image's left edge; with no margin the plane still holds u_right >= -0.5
+    // only where the right image is checked (a margin of 0 leaves the half-space open).
+    const double ur0 = v.right_edge_margin_px - 0.5;
+    const bool right = v.right_edge_margin_px > 0 && v.baseline_m > 0;
+    const Eigen::Vector3d n[kPlanes] = {
+        {0, 0, 1},
+        {0, 0, -1},
+        {f, 0, v.cx_px - u0},
+        {-f, 0, u1 - v.cx_px},
+        {0, f, v.cy_px - v0},
+        {0, -f, v1 - v.cy_px},
+        right ? Eigen::Vector3d(f, 0, v.cx_px - ur0) : Eigen::Vector3d(0, 0, 0)};
+    const double c[kPlanes] = {-std::max(v.z_min_m, 1e-3),     v.z_max_m, 0, 0, 0, 0,
+                               right ? -f * v.baseline_m : 0.0};
+    for (int i = 0; i < kPlanes; ++i) {  // n . (R p_W + t) + c
       a[i] = T_C_W.linear().transpose() * n[i];
       b[i] = n[i].dot(T_C_W.translation()) + c[i];
     }
@@ -71,7 +84,7 @@ struct Projector {
   bool sees(double x, double y, double z_lo, double z_hi) const {
     double t0 = 0.0, t1 = 1.0;
     const double dz = z_hi - z_lo;
-    for (int i = 0; i < 6; ++i)
+    for (int i = 0; i < kPlanes; ++i)
       if (!clip(a[i].x() * x + a[i].y() * y + a[i].z() * z_lo + b[i], a[i].z() * dz, t0, t1))
         return false;
     return true;

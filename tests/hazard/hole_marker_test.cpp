@@ -4,15 +4,16 @@
 // ground point this test finds inside or just outside the cell; and the export that reads
 // the marks: a partly covered CCM cell gets its plane only with a kSeenWhole mark.
 
+#include "hazmap/hazard/hole_marker.hpp"
+
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include <Eigen/Geometry>
-
-#include "hazmap/hazard/hole_marker.hpp"
 #include "hazmap/hazard/plane_classifier.hpp"
 #include "hazmap/map/layer_stack.hpp"
 
@@ -180,6 +181,57 @@ TEST(HoleMarker, ACellPartlyOutOfViewGetsNoVerdict) {
   EXPECT_EQ(HoleMarker::test_cell(s.view, kX0, kX1, kY0, kY1, 0.0, kTol, deepest - 1e-3), 0.0f);
   s.view.z_max_m = deepest - 1e-3;
   EXPECT_EQ(HoleMarker::test_cell(s.view, kX0, kX1, kY0, kY1, 0.0, kTol), 0.0f);
+}
+
+// Ground at the left image's border whose match would fall off the right image (u - f B
+// / Z within the right margin: bm and sgbm drop such matches) was not seen by the pair:
+// its missing disparities are no hole. Cells along W y at x = 0.70, level with the
+// ground, their corners projected here independently: the first cell whose corners are
+// all in the left image but one of whose matches falls within 11 px of the right image's
+// border, with every disparity over it removed, is a hole without the right margin and
+// gets no verdict with it; the first cell clear of the margin is still a hole.
+TEST(HoleMarker, GroundTheRightCameraCouldNotMatchIsNoHole) {
+  constexpr double kMargin = 11;
+  const Scene scene;
+  const Pose3d T_C_W = (scene.view.T_W_B * scene.view.T_B_C).inverse();
+  // The smallest left-image u and right-image u - f B / Z over a cell's corners.
+  auto corners = [&](double y0, double* u_left, double* u_right) {
+    *u_left = *u_right = 1e300;
+    for (const double x : {kX0, kX1})
+      for (const double y : {y0, y0 + 0.04}) {
+        const Eigen::Vector3d c = T_C_W * Eigen::Vector3d(x, y, 0.0);
+        const double u = scene.view.cx_px + scene.view.focal_px * c.x() / c.z();
+        *u_left = std::min(*u_left, u);
+        *u_right = std::min(*u_right, u - scene.view.focal_px * kBaseline / c.z());
+      }
+  };
+  double y_cut = 0, y_clear = 0;               // the cells [y, y + 0.04]
+  for (double y = 1.5; y > 0.0; y -= 0.002) {  // from the left border inwards
+    double ul = 0, ur = 0;
+    corners(y, &ul, &ur);
+    if (ul < scene.view.edge_margin_px - 0.5) continue;  // not wholly in the left image
+    if (y_cut == 0 && ur < kMargin - 0.5) y_cut = y;
+    if (ur >= kMargin + 0.5) {
+      y_clear = y;
+      break;
+    }
+  }
+  ASSERT_GT(y_cut, 0.0);
+  ASSERT_GT(y_clear, 0.0);
+  for (const double y0 : {y_cut, y_clear}) {
+    for (const double margin : {0.0, kMargin}) {
+      Scene s;
+      s.view.right_edge_margin_px = margin;
+      std::vector<Eigen::Vector2i> inside, near;
+      s.pixels_of(kX0, kX1, y0, y0 + 0.04, 0.0, &inside, &near);
+      ASSERT_GT(inside.size(), 20u);
+      for (const auto& p : inside) s.at(p.x(), p.y()) = 0;
+      const float expected = y0 == y_cut && margin > 0 ? 0.0f : kHoleSeen;
+      EXPECT_EQ(HoleMarker::test_cell(s.view, kX0, kX1, y0, y0 + 0.04, 0.0, kTol), expected)
+          << (y0 == y_cut ? "cell cut by the right image's border" : "cell clear of it")
+          << ", margin " << margin;
+    }
+  }
 }
 
 TEST(HoleMarker, OnlyPixelsOnTheStrideGridCount) {

@@ -3,15 +3,16 @@
 // the rule itself on a real layer stack and hazard stage: a ring cut by the edge of the
 // view proves from its seen part, a ring with a hole inside the view does not.
 
+#include "hazmap/hazard/sensor_view.hpp"
+
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <random>
-
-#include <Eigen/Geometry>
+#include <vector>
 
 #include "hazmap/hazard/hazard_stage.hpp"
-#include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
 
 namespace hazmap {
@@ -55,40 +56,54 @@ bool point_in_view(const SensorView& v, const Eigen::Vector3d& p_W) {
   const Eigen::Vector3d uvw = K * p;
   const double u = uvw.x() / uvw.z(), vv = uvw.y() / uvw.z();
   const double m = v.edge_margin_px;
-  return u >= m - 0.5 && u <= v.width_px - 0.5 - m && vv >= m - 0.5 && vv <= v.height_px - 0.5 - m;
+  // Its match in the right image, when the view checks it.
+  const bool right = v.right_edge_margin_px <= 0 ||
+                     u - v.focal_px * v.baseline_m / p.z() >= v.right_edge_margin_px - 0.5;
+  return right && u >= m - 0.5 && u <= v.width_px - 0.5 - m && vv >= m - 0.5 &&
+         vv <= v.height_px - 0.5 - m;
 }
 
 TEST(SensorView, ColumnTestMatchesDenselySampledPointsOfTheBand) {
   // The exact segment test must say "seen" wherever one of 2001 points along the band's
   // column projects into the view (a superset: never narrower), and differ from the
-  // samples only where the segment's visible part falls between two of them.
+  // samples only where the segment's visible part falls between two of them. Without
+  // and with the right image's border (a 5 cm baseline, its matches 11 px in from it).
   Pose3d T_W_B = Pose3d::Identity();
   T_W_B.linear() = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
                     Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()))
                        .toRotationMatrix();  // yawed, on a 6 deg slope
   T_W_B.translation() = Eigen::Vector3d(1.0, -2.0, 0.3);
-  const SensorView view = forward_camera(35.0, T_W_B);
-  const Eigen::Vector3d n = T_W_B.linear().col(2), o = T_W_B.translation();
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-3.0, 3.0);
-  int seen = 0, differ = 0;
-  const int cases = 4000;
-  for (int i = 0; i < cases; ++i) {
-    const double x = o.x() + u(rng), y = o.y() + u(rng);
-    bool sampled = false;
-    for (int k = 0; k <= 2000 && !sampled; ++k) {
-      const double h = -view.band_below_m + (view.band_below_m + view.band_above_m) * k / 2000.0;
-      // The point of the vertical line over (x, y) that lies h above the wheel plane.
-      const double z = o.z() + (h - n.x() * (x - o.x()) - n.y() * (y - o.y())) / n.z();
-      sampled = point_in_view(view, {x, y, z});
+  std::vector<int> seen_by_case;
+  for (const double right_margin : {0.0, 11.0}) {
+    SensorView view = forward_camera(35.0, T_W_B);
+    view.baseline_m = 0.05;
+    view.right_edge_margin_px = right_margin;
+    const Eigen::Vector3d n = T_W_B.linear().col(2), o = T_W_B.translation();
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    int seen = 0, differ = 0;
+    const int cases = 4000;
+    for (int i = 0; i < cases; ++i) {
+      const double x = o.x() + u(rng), y = o.y() + u(rng);
+      bool sampled = false;
+      for (int k = 0; k <= 2000 && !sampled; ++k) {
+        const double h = -view.band_below_m + (view.band_below_m + view.band_above_m) * k / 2000.0;
+        // The point of the vertical line over (x, y) that lies h above the wheel plane.
+        const double z = o.z() + (h - n.x() * (x - o.x()) - n.y() * (y - o.y())) / n.z();
+        sampled = point_in_view(view, {x, y, z});
+      }
+      const bool exact = view.sees_column(x, y);
+      ASSERT_TRUE(exact || !sampled) << "narrower than its own samples at " << x << ", " << y
+                                     << ", right margin " << right_margin;
+      seen += exact;
+      differ += exact != sampled;
     }
-    const bool exact = view.sees_column(x, y);
-    ASSERT_TRUE(exact || !sampled) << "narrower than its own samples at " << x << ", " << y;
-    seen += exact;
-    differ += exact != sampled;
+    EXPECT_GT(seen, cases / 20) << right_margin;  // the test covers the view, not only its outside
+    EXPECT_LE(differ, cases / 1000) << right_margin;  // only slivers between samples
+    seen_by_case.push_back(seen);
   }
-  EXPECT_GT(seen, cases / 20);        // the test covers the view, not only its outside
-  EXPECT_LE(differ, cases / 1000);    // only slivers between samples
+  // The right image's border takes a band off the view's left side: the cases can differ.
+  EXPECT_LT(seen_by_case[1], seen_by_case[0]);
 }
 
 TEST(SensorView, MaskCountsCellsWhollyOrPartlyViewedAndReportsWhatChanged) {

@@ -235,6 +235,33 @@ class PipelineVsCli(unittest.TestCase):
             self.assertLessEqual(differ, max(1, planner.fused.size // 500))
 
 
+class ViewMasks(unittest.TestCase):
+    """The hazard stage's view masks as Layer properties: `viewed` where
+    hazard.partial_ring_proof is view_edge, `seen_whole` on layers with
+    hole_free_coverage (cadre_flight's 4 cm layer), None elsewhere."""
+
+    def test_masks_of_the_flight_stack(self):
+        config = hazmap.load_config(os.path.join(SOURCE_DIR, "config", "cadre_flight.yaml"), [])
+        sequence = hazmap.load_sequence(SAMPLE)
+        pipeline = hazmap.Pipeline(config, sequence["calibration"])
+        for frame in sequence["frames"][:3]:
+            pipeline.process(hazmap.read_image(frame["left"]), hazmap.read_image(frame["right"]),
+                             frame["T_W_B"])
+        for k, layer in enumerate(pipeline.layers):
+            viewed = layer.viewed
+            self.assertEqual(viewed.shape, layer.shape)
+            self.assertTrue(set(np.unique(viewed)) <= {0.0, 1.0, 2.0}, k)
+            self.assertGreater((viewed == 2).sum(), 0, k)  # three frames saw some cells whole
+            if k != 1:  # only the 4 cm layer has hole_free_coverage
+                self.assertIsNone(layer.seen_whole, k)
+                continue
+            marks = layer.seen_whole
+            self.assertTrue(set(np.unique(marks)) <= {0.0, 1.0, 2.0})
+            self.assertGreater((marks == 1).sum(), 0)
+            # Only known cells are tested.
+            self.assertTrue(np.isfinite(layer.height[marks != 0]).all())
+
+
 class BadInput(unittest.TestCase):
     """Wrong input raises a Python exception with one clear line, never a crash."""
 

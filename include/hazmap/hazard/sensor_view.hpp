@@ -9,7 +9,8 @@
 //
 // A point counts as looked at when some point of the vertical column over it projects
 // into the matchable part of the rectified left image (edge_margin_px in from the
-// border) within depth [z_min, z_max]. The column spans the ground a coarser layer knows
+// border) within depth [z_min, z_max], and its match into the right image's
+// (right_edge_margin_px in from its left border). The column spans the ground a coarser layer knows
 // there (TerrainBand: its height +- k sigma and a slope's rise over its cell) or, where
 // none does, `band_below_m` under to `band_above_m` over the body's wheel plane (the
 // terrain the stereo stage expects: stereo.band_max_depth, stereo.band_max_height).
@@ -39,6 +40,11 @@ struct SensorView {
   /// nor in the first blank_left_px columns (a matcher's blank band).
   double edge_margin_px = 0;
   double blank_left_px = 0;
+  /// Nor where the match would fall within this many pixels of the right image's left
+  /// border (u - f B / Z < it): the right camera did not see that ground with a window
+  /// to spare (bm and sgbm with stereo.match_left_border drop such matches: block_size;
+  /// otherwise half a window). 0: the right image is not checked.
+  double right_edge_margin_px = 0;
   double z_min_m = 0, z_max_m = 0;     ///< depth along the optical axis (stereo.z_min, z_max)
   double band_below_m = 0.5, band_above_m = 0.5;
   /// The frame's disparity image (rectified left, x16 fixed point, row-major with
