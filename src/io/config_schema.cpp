@@ -308,7 +308,7 @@ const std::vector<LayerKey>& layer_keys() {
        "any rule: drop a point for this layer when its lateral std exceeds ratio x r / sqrt(12) (SPEC 4); 0 off; `auto`: `rules.ccm.max_std_ratio`",
        {old_auto_negative("rules.ccm.max_std_ratio"), finite("must be finite and >= 0 (0: off), or `auto` (rules.ccm.max_std_ratio)", 0)}},
       {"hole_free_coverage", LAYER_FIELD(hole_free_coverage), "",
-       "CCM: a cell whose points spread over at least this share of it (kappa, as `rules.ccm.min_coverage`) also has a plane, for its own tests only, when some frame's disparity image saw all of it: each quarter of it with a pixel on its level plane and none off it; a quarter with no pixel matched in any frame (a hole) ends that for good ([docs/hazards.md](docs/hazards.md)); 0 off",
+       "CCM: a cell whose points spread over at least this share of it (kappa, as `rules.ccm.min_coverage`) also has a plane, for its own tests only, when no part of it went unmeasured: its points have landed in every one of its 4 x 4 sub-cells, or some frame's disparity image saw all of it (each quarter with a pixel on its level plane and none off it; a quarter no pixel matched, where the right camera could match, is a hole and ends the second way for good) ([docs/hazards.md](docs/hazards.md)); 0 off",
        {in(0, 1, "[]")}, false, "shipped `cadre_flight`: 0.5 on the 4 cm layer"},
       {"hazard.kernel", LAYER_FIELD(hazard.kernel), "cells",
        "piecewise-constant layers: roughness kernel diameter (odd, smaller than the layer)",

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/core/stopwatch.hpp"
@@ -31,7 +32,9 @@ std::unique_ptr<Layer> make_layer(const MapConfig& map, const RulesConfig& rules
   return visit_rule(layer.rule, [&](auto tag) -> std::unique_ptr<Layer> {
     using Rule = typename decltype(tag)::type;
     using Entry = typename decltype(tag)::entry;
-    return std::make_unique<RollingLayer<Rule>>(n, r, rule_config<Entry>(rules, hazard), gate, pooled);
+    auto config = rule_config<Entry>(rules, hazard);
+    if constexpr (std::is_same_v<Rule, CcmRule>) config.occupancy = layer.hole_free_coverage > 0;
+    return std::make_unique<RollingLayer<Rule>>(n, r, config, gate, pooled);
   });
 }
 

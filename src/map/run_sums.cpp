@@ -20,13 +20,26 @@ static_assert(sizeof(Vec4) / sizeof(float) == kRunPointLanes, "one Vec4 of point
 [[gnu::always_inline]] inline Vec4 keep(Vec4 v, Mask4 live) {
   return reinterpret_cast<Vec4>(reinterpret_cast<Mask4>(v) & live);
 }
+/// occupancy_bit (map/moments.hpp) of four points: bit 4 j + i of sub-cell (i, j). Lanes
+/// past a run's end may hold anything (the caller masks their bits); clamped both ways so
+/// that no lane's shift leaves [0, 15].
+[[gnu::always_inline]] inline Mask4 occupancy_bits(Vec4 x, Vec4 y) {
+  const Vec4 lo{}, hi = {3.0f, 3.0f, 3.0f, 3.0f};
+  Vec4 fi = (x + 0.5f) * 4.0f, fj = (y + 0.5f) * 4.0f;
+  // Clamped as floats (NaN past the end: the comparisons keep it out of the shift).
+  fi = fi > lo ? (fi < hi ? fi : hi) : lo;
+  fj = fj > lo ? (fj < hi ? fj : hi) : lo;
+  const Mask4 one = {1, 1, 1, 1};
+  return one << (4 * __builtin_convertvector(fj, Mask4) + __builtin_convertvector(fi, Mask4));
+}
 [[gnu::always_inline]] inline double total(Vec4 v) {
   return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]));
 }
 
 }  // namespace
 
-HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums) {
+HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums,
+                                 bool occupancy) {
   const float z0 = run.z[run.begin];
   WeightedSums<Vec4> lanes;
   Vec4 wv{};
@@ -65,6 +78,16 @@ HAZMAP_KERNEL void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums
   sums.yz += total(lanes.yz) + d * Y;
   sums.v += total(wv);
   sums.count += static_cast<std::uint32_t>(run.end - run.begin);
+  if (!occupancy) return;
+  // The sub-cells in a pass of their own, on the layers that keep them: in the loop above
+  // they cost every CCM layer 14-18 % of its insertion (measured).
+  Mask4 lanes_occupied{};
+  for (int k = run.begin; k < run.end; k += kRunPointLanes) {
+    const Mask4 live = (lane + k) < run.end;
+    lanes_occupied |= occupancy_bits(load(run.x + k), load(run.y + k)) & live;
+  }
+  sums.occupied = static_cast<std::uint16_t>(sums.occupied | lanes_occupied[0] | lanes_occupied[1] |
+                                             lanes_occupied[2] | lanes_occupied[3]);
 }
 
 HAZMAP_KERNEL HeightSums height_run(const RunPoints& run, double z_ref_m) {

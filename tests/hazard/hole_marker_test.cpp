@@ -316,8 +316,10 @@ Measurement point(double x, double y, double z) {
 }
 
 TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
-  // Cell [0, r)^2 holds points on z = 1 + 0.3 x - 0.2 y over x in [0, 0.8 r): coverage
-  // 0.64 (kappa of a uniform strip 0.8 wide), short of rules.ccm.min_coverage 0.8.
+  // Cell [0, r)^2 holds points on z = 1 + 0.3 x - 0.2 y over x in [0, 0.74 r): coverage
+  // 0.548 (kappa of a uniform strip 0.74 wide), short of rules.ccm.min_coverage 0.8, and
+  // no point in its last column of 4 x 4 sub-cells (from 0.75 r), so only a mark gives it
+  // a plane.
   const double r = 0.04;
   MapConfig map;
   LayerConfig l;
@@ -332,7 +334,7 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
   const int k = 40;
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < k; ++j) {
-      const double x = 0.8 * r * (i + 0.5) / k, y = r * (j + 0.5) / k;
+      const double x = 0.74 * r * (i + 0.5) / k, y = r * (j + 0.5) / k;
       cloud.push_back(point(x, y, 1.0 + 0.3 * x - 0.2 * y));
       // Cell [r, 2r) x [0, r): covered whole, evaluable by the rule itself.
       const double xf = r + r * (i + 0.5) / k;
@@ -343,9 +345,9 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
   s.export_layer(0, plain);
   int row = 0, col = 0;
   ASSERT_TRUE(plain.height.cell_at(0.5 * r, 0.5 * r, &row, &col));
-  ASSERT_NEAR(plain.coverage.at(row, col), 0.64, 0.01);
+  ASSERT_NEAR(plain.coverage.at(row, col), 0.74 * 0.74, 0.01);
   ASSERT_EQ(plain.evaluable.at(row, col), 0.0f);
-  EXPECT_NEAR(plain.height.at(row, col), 1.0 + 0.3 * 0.4 * r - 0.2 * 0.5 * r, 1e-5);  // mu_z
+  EXPECT_NEAR(plain.height.at(row, col), 1.0 + 0.3 * 0.37 * r - 0.2 * 0.5 * r, 1e-5);  // mu_z
 
   DenseGrid marks;
   marks.reset(8, 8, r, plain.height.center_x_m, plain.height.center_y_m, 0.0f);
@@ -400,6 +402,71 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
     s.export_layer(0, g, &rule);
     EXPECT_EQ(g.evaluable.at(frow, fcol), 1.0f) << mark;
     EXPECT_NEAR(g.slope_x.at(frow, fcol), 0.3, 1e-3) << mark;
+  }
+}
+
+// A cell sampled unevenly but everywhere: z = 1 + 0.3 x - 0.2 y on 34 columns of points
+// over its left half and 6 over its right half (three per sub-cell column), 40 rows. Its
+// spread, computed here from the columns (0.63), is short of rules.ccm.min_coverage 0.8; its
+// points fill all 16 sub-cells, so with hole_free_coverage it gets its plane for its own
+// tests without any mark. Without the right half's first row of sub-cells (a corner left
+// unmeasured: 14 of 16 filled; spread 0.56) it does not.
+TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane) {
+  const double r = 0.04;
+  std::vector<double> columns;
+  for (int i = 0; i < 34; ++i) columns.push_back(0.5 * r * (i + 0.5) / 34);
+  for (int i = 0; i < 6; ++i) columns.push_back(0.5 * r + 0.5 * r * (i + 0.5) / 6);
+  double mean = 0, square = 0;
+  for (const double x : columns) mean += x / columns.size();
+  for (const double x : columns) square += (x - mean) * (x - mean) / columns.size();
+  const double kappa = square / (r * r / 12.0);
+  ASSERT_GT(kappa, 0.5);
+  ASSERT_LT(kappa, 0.8);
+  for (const bool corner_missing : {false, true}) {
+    MapConfig map;
+    LayerConfig l;
+    l.rule = RuleKind::ccm;
+    l.resolution_m = r;
+    l.size = 8;
+    l.hole_free_coverage = 0.5;  // the layer keeps the occupancy mask
+    map.layers.push_back(l);
+    LayerStack s(map, RulesConfig{}, HazardConfig{});
+    s.begin_frame(0.0, 0.0);
+    PointCloud cloud;
+    for (const double x : columns)
+      for (int j = 0; j < 40; ++j) {
+        const double y = r * (j + 0.5) / 40;
+        if (corner_missing && x >= 0.5 * r && y < 0.25 * r) continue;
+        cloud.push_back(point(x, y, 1.0 + 0.3 * x - 0.2 * y));
+      }
+    s.insert(MapPoints(cloud));
+    LayerGrids plain;
+    s.export_layer(0, plain);
+    int row = 0, col = 0;
+    ASSERT_TRUE(plain.height.cell_at(0.5 * r, 0.5 * r, &row, &col));
+    if (!corner_missing) ASSERT_NEAR(plain.coverage.at(row, col), kappa, 1e-3);
+    ASSERT_GT(plain.coverage.at(row, col), 0.5);
+    ASSERT_EQ(plain.evaluable.at(row, col), 0.0f);
+    DenseGrid marks;
+    marks.reset(8, 8, r, plain.height.center_x_m, plain.height.center_y_m, 0.0f);
+    // No mark, and a hole mark (points have since landed in every sub-cell).
+    for (const float mark : {0.0f, kHoleSeen}) {
+      marks.at(row, col) = mark;
+      for (const double min_coverage : {0.5, 0.8}) {
+        const SeenWhole rule{&marks, min_coverage, 10};
+        LayerGrids g;
+        s.export_layer(0, g, &rule);
+        const bool evaluable = !corner_missing && min_coverage == 0.5;
+        ASSERT_EQ(g.evaluable.at(row, col), evaluable ? kEvaluableOwnCell : 0.0f)
+            << "corner missing " << corner_missing << ", mark " << mark << ", min coverage "
+            << min_coverage;
+        if (evaluable) {
+          EXPECT_NEAR(g.height.at(row, col), 1.0 + 0.3 * 0.5 * r - 0.2 * 0.5 * r, 1e-5);
+          EXPECT_NEAR(g.slope_x.at(row, col), 0.3, 1e-3);
+          EXPECT_NEAR(g.slope_y.at(row, col), -0.2, 1e-3);
+        }
+      }
+    }
   }
 }
 

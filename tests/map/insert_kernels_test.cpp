@@ -160,21 +160,35 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       for (int len = 1; len <= 23; ++len) {
         const int end = begin + len;
         // A NaN just past the run must not leak into the masked vector lanes.
-        const float saved = c.z[end], saved_var = c.var_z[end];
+        const float saved = c.z[end], saved_var = c.var_z[end], saved_x = cx[end];
         c.z[end] = std::numeric_limits<float>::quiet_NaN();
         c.var_z[end] = std::numeric_limits<float>::quiet_NaN();
+        cx[end] = std::numeric_limits<float>::quiet_NaN();
         const double z_ref = 34.99;
         FrameSums got, want;
         got.w = 1.0;  // runs add to what is there
         want.w = 1.0;
-        add_plane_run(RunPoints{unit ? nullptr : c.ccm_weight.data(), cx.data(), cy.data(),
-                                c.z.data(), begin, end, c.var_z.data()},
-                      z_ref, got);
+        const RunPoints run{unit ? nullptr : c.ccm_weight.data(),
+                            cx.data(),
+                            cy.data(),
+                            c.z.data(),
+                            begin,
+                            end,
+                            c.var_z.data()};
+        add_plane_run(run, z_ref, got, /*occupancy=*/true);
+        FrameSums without;  // a layer that keeps no occupancy mask
+        add_plane_run(run, z_ref, without);
         for (int k = begin; k < end; ++k)
           want.add(unit ? 1.0 : c.ccm_weight[k], cx[k], cy[k], double(c.z[k]) - z_ref, c.var_z[k]);
         c.z[end] = saved;
         c.var_z[end] = saved_var;
+        cx[end] = saved_x;
         ASSERT_EQ(got.count, want.count);
+        // The run's 4 x 4 occupancy, from the same points one by one (lanes past the run
+        // set no bit).
+        EXPECT_EQ(got.occupied, want.occupied) << begin << "+" << len;
+        EXPECT_EQ(without.occupied, 0u);
+        EXPECT_EQ(without.count, got.count);
         const double tol = 1e-6;
         EXPECT_NEAR(got.w, want.w, tol * want.w);
         EXPECT_NEAR(got.x, want.x, tol * want.w);
@@ -193,6 +207,23 @@ TEST(AddPlaneRun, EqualsScalarDoubleSumsForEveryRunLengthAndOffset) {
       }
     }
   }
+}
+
+// A point's sub-cell in the 4 x 4 occupancy mask, against floor() in double: the lower
+// borders belong to the sub-cell above them, the cell's far border to the last one.
+TEST(OccupancyBit, NamesTheSubCellOfAPoint) {
+  auto expected = [](double x, double y) {
+    const int i = std::clamp(static_cast<int>(std::floor((x + 0.5) * 4.0)), 0, 3);
+    const int j = std::clamp(static_cast<int>(std::floor((y + 0.5) * 4.0)), 0, 3);
+    return static_cast<std::uint16_t>(1u << (4 * j + i));
+  };
+  for (const double x : {-0.5, -0.4999, -0.2501, -0.25, -0.01, 0.0, 0.2499, 0.25, 0.4999, 0.5})
+    for (const double y : {-0.5, -0.25, 0.0, 0.3, 0.5})
+      EXPECT_EQ(occupancy_bit(float(x), float(y)), expected(x, y)) << x << ", " << y;
+  EXPECT_EQ(occupancy_bit(-0.5f, -0.5f), 1u);
+  EXPECT_EQ(occupancy_bit(0.49f, 0.49f), 1u << 15);
+  EXPECT_EQ(occupancy_bit(0.26f, -0.3f), 1u << 3);  // column 3, row 0
+  EXPECT_EQ(occupancy_bit(-0.3f, 0.01f), 1u << 8);  // column 0, row 2
 }
 
 TEST(HeightRun, EqualsScalarDoubleSums) {

@@ -98,5 +98,30 @@ TEST(CcmRule, EvaluableNeedsCoverageAndPoints) {
   EXPECT_FALSE(CcmRule::evaluable(cfg, half, kCell));
 }
 
+// Which 4 x 4 sub-cells held a point: set by the frame's points, kept across frames and
+// through the weight cap (which discounts old points' moments, not the fact that the
+// ground there was seen), cleared with the cell.
+TEST(CcmRule, OccupancyCollectsEverySubCellThatHeldAPoint) {
+  CcmRule::Config cfg;
+  cfg.max_weight = 50;  // the second frame's 100 points hit the cap
+  const CcmRule::Cell grid = sample_cell(cfg, 8, [](double, double) { return 0.0; });
+  EXPECT_EQ(CcmRule::occupied(grid), kAllOccupied);  // 8 x 8 samples: two per sub-cell and axis
+  // Frame 1: the left half (sub-cell columns 0 and 1); frame 2: the right half.
+  CcmRule::Cell c;
+  FrameSums left, right;
+  for (int i = 0; i < 100; ++i) {
+    const double u = -0.5 + 0.49 * (i % 10) / 9.0, v = -0.5 + 0.99 * (i / 10) / 9.0;
+    left.add(1.0, u, v, 0.0);
+    right.add(1.0, u + 0.5, v, 0.0);
+  }
+  CcmRule::merge_frame(cfg, c, left, 0.0, kCell);
+  EXPECT_EQ(CcmRule::occupied(c), 0x3333u);
+  CcmRule::merge_frame(cfg, c, right, 0.0, kCell);
+  EXPECT_EQ(CcmRule::occupied(c), kAllOccupied);
+  EXPECT_NEAR(c.w, 50.0, 1e-3);  // capped
+  CcmRule::clear(c);
+  EXPECT_EQ(CcmRule::occupied(c), 0u);
+}
+
 }  // namespace
 }  // namespace hazmap

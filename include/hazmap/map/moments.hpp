@@ -10,6 +10,7 @@
 // (population normalisation, SPEC 12). Beside them, the weighted mean of the points'
 // measurement height variances (CCM's noise variance), merged like the other means.
 
+#include <algorithm>
 #include <cstdint>
 
 namespace hazmap {
@@ -105,6 +106,16 @@ struct WeightedSums {
   }
 };
 
+/// The bit of a cell's 4 x 4 occupancy mask for a point at (x, y) in cell units from the
+/// cell's centre ([-0.5, 0.5); clamped: a point on the far border counts in the last
+/// sub-cell): bit 4 j + i for sub-cell column i, row j.
+inline std::uint16_t occupancy_bit(float x, float y) {
+  const int i = std::min(3, std::max(0, static_cast<int>((x + 0.5f) * 4.0f)));
+  const int j = std::min(3, std::max(0, static_cast<int>((y + 0.5f) * 4.0f)));
+  return static_cast<std::uint16_t>(1u << (4 * j + i));
+}
+constexpr std::uint16_t kAllOccupied = 0xFFFF;
+
 /// Raw weighted sums of one frame's points in one cell, relative to a reference point
 /// (x, y in cell units from the cell centre, z in metres from a per-cell reference
 /// height). Shifting by a reference inside the data keeps the raw-sum form exact enough
@@ -112,11 +123,13 @@ struct WeightedSums {
 struct FrameSums : WeightedSums<double> {
   double v = 0;  ///< sum w Sigma_zz (noise variance)
   std::uint32_t count = 0;
+  std::uint16_t occupied = 0;  ///< bit 4 j + i: a point in sub-cell (i, j) of the 4 x 4
 
   void add(double wt, double px, double py, double pz, double var_z = 0.0) {
     WeightedSums<double>::add(wt, px, py, pz);
     v += wt * var_z;
     ++count;
+    occupied |= occupancy_bit(static_cast<float>(px), static_cast<float>(py));
   }
 
   /// Centred moments with x, y in metres (cell units times `cell_m`) relative to the cell

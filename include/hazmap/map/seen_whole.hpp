@@ -1,12 +1,19 @@
 #pragma once
-// Cells of a CCM layer that a disparity image saw whole, without a hole (issue 34): the
-// hazard stage's marks (hazard/hole_marker.hpp), read by the layer's export. A cell whose
-// points spread over less than rules.ccm.min_coverage of it is still given its plane, for
-// its own tests, when the spread reaches `min_coverage` here and some frame saw every
-// quarter of the cell: its points are then as dense as the pixels over it allow, and no
-// part of it (a rock's shadow, ground a rock hid, a face without texture) went unmeasured.
+// Cells of a CCM layer without a hole (issue 34): the hazard stage's marks of cells a
+// disparity image saw whole (hazard/hole_marker.hpp), and the rule's own occupancy mask,
+// read by the layer's export. A cell whose points spread over less than
+// rules.ccm.min_coverage of it is still given its plane, for its own tests, when the
+// spread reaches `min_coverage` here and either some frame saw every quarter of the cell
+// or its points have landed in every one of its 4 x 4 sub-cells: no part of it (a rock's
+// shadow, ground a rock hid, a face without texture) went unmeasured, and its points are
+// only denser in some parts than in others (the near rows of a frame weigh more; pixel
+// rows cross a cell unevenly). Measured: such cells had points in all 16 sub-cells and a
+// spread of 0.69-0.80 (docs/hazards.md).
+
+#include <cstdint>
 
 #include "hazmap/map/dense_grid.hpp"
+#include "hazmap/map/moments.hpp"
 
 namespace hazmap {
 
@@ -26,10 +33,12 @@ struct SeenWhole {
   double min_coverage = 1.0;         ///< kappa a marked cell needs (map.layers.N.hole_free_coverage)
   int min_points = 10;               ///< points it needs (rules.ccm.min_points)
 
-  /// Whether cell (row, col) has a plane by the mark: it was seen whole, without a hole
-  /// since, with this coverage and point count.
-  bool by_mark(int row, int col, double coverage, double count) const {
-    return marks->at(row, col) == kSeenWhole && coverage >= min_coverage && count >= min_points;
+  /// Whether cell (row, col) has a plane without a hole, with this coverage and point
+  /// count: a frame saw it whole (its mark, no hole seen since), or its points have
+  /// filled every sixteenth of it (`occupied`, the rule's 4 x 4 occupancy mask: all set).
+  bool hole_free(int row, int col, double coverage, double count, std::uint16_t occupied) const {
+    return (marks->at(row, col) == kSeenWhole || occupied == kAllOccupied) &&
+           coverage >= min_coverage && count >= min_points;
   }
 };
 

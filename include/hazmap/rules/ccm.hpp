@@ -45,6 +45,10 @@ struct CcmRule {
     /// hazard.max_slope_deg in radians: the tilt a cell that is not evaluable may hide,
     /// in its published variance (SPEC 6.4).
     double max_slope_rad = 20.0 * M_PI / 180.0;
+    /// Keep each cell's 4 x 4 occupancy mask (Cell::occupied): set per layer by make_layer
+    /// where map.layers.N.hole_free_coverage reads it; it costs about a seventh of the
+    /// layer's insertion, so other layers do not pay for it.
+    bool occupancy = false;
   };
 
   /// The layer's Config from the hazard section (rule_registry.hpp: rule_config).
@@ -59,6 +63,10 @@ struct CcmRule {
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;  ///< co-moments
     float noise_var_m2 = 0.0f;  ///< weighted mean of the points' Sigma_zz
     std::uint32_t count = 0;
+    /// Which of the cell's 4 x 4 sub-cells ever held a point (map/moments.hpp:
+    /// occupancy_bit; only with Config::occupancy, and on a pooled layer only the points
+    /// it took itself); not discounted by the weight cap: ground seen stays seen.
+    std::uint16_t occupied = 0;
   };
 
   using Sums = FrameSums;
@@ -70,9 +78,11 @@ struct CcmRule {
   static const float* weights(const PointChunk& c) {
     return c.unit_ccm_weight ? nullptr : c.ccm_weight;
   }
-  /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
-  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {  // run.var_z required
-    add_plane_run(run, z_ref_m, s);
+  /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums, with
+  /// their sub-cells where the layer keeps the occupancy mask.
+  static void add_run(const Config& cfg, Sums& s, const RunPoints& run,
+                      double z_ref_m) {  // run.var_z required
+    add_plane_run(run, z_ref_m, s, cfg.occupancy);
   }
   static double mean_z(const Cell& c) { return c.mz_m.value(); }
 
@@ -113,8 +123,13 @@ struct CcmRule {
     if (!(s.w > 0)) return;
     Moments m = to_moments(c);
     m.merge(s.to_moments(cell_m, z_ref_m));
+    const std::uint16_t occupied = c.occupied | s.occupied;
     from_moments(cfg, c, m);
+    c.occupied = occupied;
   }
+
+  /// The cell's occupancy mask (bit 4 j + i: sub-cell (i, j) held a point).
+  static std::uint16_t occupied(const Cell& c) { return c.occupied; }
 
   /// Nothing changes with time.
   static void age(const Config&, Cell&, std::uint32_t) {}

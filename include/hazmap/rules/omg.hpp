@@ -74,7 +74,7 @@ struct OmgRule {
   static float reference_z(const Cell& c) { return c.mean_m.ref_m; }
   static const float* weights(const PointChunk& c) { return c.inv_var_z; }
   /// Adds a run of points in this cell (z relative to z_ref_m) to a frame's sums.
-  static void add_run(Sums& s, const RunPoints& run, double z_ref_m) {
+  static void add_run(const Config&, Sums& s, const RunPoints& run, double z_ref_m) {
     const HeightSums h = height_run(run, z_ref_m);
     s.w += h.w;
     s.wz += h.wz;

@@ -45,7 +45,7 @@
 //     merge_chunk_runs(const Config&, Cell*, std::uint32_t frame, const ChunkRuns&)
 //       -> std::size_t (points merged)               an unpooled layer's whole run list
 //   per_frame (runs summed into a per-frame accumulator, merged once per frame; CCM, OMG):
-//     add_run(Sums&, const RunPoints&, double z_ref_m)                add a run to the sums
+//     add_run(const Config&, Sums&, const RunPoints&, double z_ref_m)  add a run to the sums
 //     reference_z(const Cell&) -> float                               accumulator reference
 //     weights(const PointChunk&) -> const float*                      per-point weights
 //     merge_frame(const Config&, Cell&, const Sums&, double z_ref_m, double cell_m)
@@ -67,6 +67,8 @@
 //       published_variance(const Config&, const Cell&, double cell_m, bool evaluable) -> number
 //       roughness(const Config&, const Cell&) -> number
 //       coverage(const Cell&, double cell_m) -> number
+//       occupied(const Cell&) -> std::uint16_t         4 x 4 sub-cells that held a point
+//                                                      (map/moments.hpp: occupancy_bit)
 //       cell_values(const Cell&) -> PlaneCellValues   count, noise and lateral grids
 //     else (piecewise-constant cells):
 //       height(const Cell&) -> float, variance(const Cell&) -> float   NaN when unknown
@@ -215,9 +217,10 @@ using weights_t = decltype(R::weights(lv<const PointChunk>()));
 template <class R>
 using reference_z_t =
     decltype(lv<float>() = (true ? R::reference_z(lv<cell_t<R>>()) : lv<const float>()));
-// FrameAccumulators::add_runs: Rule::add_run(a.sums, RunPoints{...}, a.z_ref).
+// FrameAccumulators::add_runs: Rule::add_run(cells.config(), a.sums, RunPoints{...}, a.z_ref).
 template <class R>
-using add_run_t = decltype(R::add_run(lv<sums_t<R>>(), RunPoints{}, lv<float>()));
+using add_run_t =
+    decltype(R::add_run(lv<const config_t<R>>(), lv<sums_t<R>>(), RunPoints{}, lv<float>()));
 
 // ---- kStampInCell (stamp, last_merge): std::uint32_t& last = cells[slot].stamp. ----
 
@@ -267,6 +270,9 @@ using roughness_t =
 template <class R>
 using coverage_t =
     decltype(static_cast<float>(R::coverage(lv<const cell_t<R>>(), lv<const double>())));
+// seen_whole->hole_free(..., Rule::occupied(c)).
+template <class R>
+using occupied_t = decltype(std::uint16_t(R::occupied(lv<const cell_t<R>>())));
 // const PlaneCellValues v = Rule::cell_values(c).
 template <class R>
 using cell_values_t = decltype(PlaneCellValues(R::cell_values(lv<const cell_t<R>>())));
@@ -399,9 +405,9 @@ constexpr bool check_update_rule() {
     } else {
       constexpr bool add_run_ok = is_detected_v<add_run_t, Rule>;
       static_assert(add_run_ok,
-                    "update rule with MergePolicy::per_frame: needs static void add_run(Sums&, "
-                    "const RunPoints&, double z_ref_m) -- add a run of points to a cell's frame "
-                    "sums");
+                    "update rule with MergePolicy::per_frame: needs static void add_run(const "
+                    "Config&, Sums&, const RunPoints&, double z_ref_m) -- add a run of points to "
+                    "a cell's frame sums");
       constexpr bool reference_ok = is_detected_v<reference_z_t, Rule>;
       static_assert(reference_ok,
                     "update rule with MergePolicy::per_frame: needs static float "
@@ -486,12 +492,16 @@ constexpr bool check_update_rule() {
       static_assert(coverage_ok,
                     "update rule with kHasPlane: needs static double coverage(const Cell&, double "
                     "cell_m) -- how well the points cover the cell laterally");
+      constexpr bool occupied_ok = is_detected_v<occupied_t, Rule>;
+      static_assert(occupied_ok,
+                    "update rule with kHasPlane: needs static std::uint16_t occupied(const Cell&) "
+                    "-- which of the cell's 4 x 4 sub-cells held a point");
       constexpr bool fields_ok = is_detected_v<cell_values_t, Rule>;
       static_assert(fields_ok,
                     "update rule with kHasPlane: needs static PlaneCellValues cell_values(const "
                     "Cell&) -- exported as the count, noise and lateral grids");
       export_ok = evaluable_ok && slopes_ok && height_at_ok && mean_z_ok && published_ok &&
-                  roughness_ok && coverage_ok && fields_ok;
+                  roughness_ok && coverage_ok && occupied_ok && fields_ok;
     } else {
       constexpr bool height_ok = is_detected_convertible_v<float, height_t, Rule>;
       static_assert(height_ok,

@@ -165,6 +165,10 @@ std::vector<Case> cases() {
   const MapConfig ccm4 = make_map({{C, 0.04, 250}});
   // SPEC 11 flight stack (config/cadre_flight.yaml's rules, windows grown to ~10 m).
   const MapConfig flight = make_map({{K, 0.01, 1000}, {C, 0.04, 250}, {C, 0.16, 64}, {C, 0.64, 16}});
+  // The same with cadre_flight's hole-free 4 cm layer (map.layers.1.hole_free_coverage),
+  // which keeps the cells' 4 x 4 occupancy masks (revisions before 2026-12-03: no mask).
+  MapConfig flight_hole_free = flight;
+  flight_hole_free.layers[1].hole_free_coverage = 0.5;
   // Thesis stacks (config/thesis_pwc.yaml, thesis_ccm.yaml: finest_then_pool).
   const MapConfig pwc = make_map({{O, 0.01, 1000}, {O, 0.04, 250}, {O, 0.16, 64}, {O, 0.64, 16}}, true);
   const MapConfig tccm =
@@ -176,6 +180,7 @@ std::vector<Case> cases() {
       {"omg1", omg1, false},
       {"ccm4", ccm4, false},
       {"flight", flight, false},
+      {"flight_hole_free", flight_hole_free, false},
       {"thesis_pwc", pwc, false},
       {"thesis_ccm", tccm, false},
       {"kalman1_cloud", kalman1, true},

@@ -43,7 +43,8 @@ void export_cells(const LayerCells<Rule>& cells, const RollingGrid& grid, LayerG
         const PlaneCellValues v = Rule::cell_values(c);
         const double coverage = Rule::coverage(c, r);
         const bool by_rule = Rule::evaluable(config, c, r);
-        const bool by_mark = !by_rule && seen_whole && seen_whole->by_mark(row, col, coverage, v.count);
+        const bool by_mark = !by_rule && seen_whole &&
+                             seen_whole->hole_free(row, col, coverage, v.count, Rule::occupied(c));
         const bool evaluable = by_rule || by_mark;
         if (evaluable) {
           double a, b;

@@ -200,7 +200,8 @@ class FrameAccumulators {
         fresh.z_ref = Rule::known(cells.raw(s)) ? Rule::reference_z(cells.raw(s)) : chunk.z[i];
       }
       Accumulator& acc = accumulators_[a];
-      Rule::add_run(acc.sums, RunPoints{w, cx, cy, chunk.z, i, end, chunk.var_z}, acc.z_ref);
+      Rule::add_run(cells.config(), acc.sums, RunPoints{w, cx, cy, chunk.z, i, end, chunk.var_z},
+                    acc.z_ref);
     }
     return used;
   }

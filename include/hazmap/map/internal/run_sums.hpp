@@ -24,8 +24,9 @@ static_assert(PointChunk::kPad >= kRunPointLanes,
               "add_plane_run / height_run read a chunk's arrays up to end + 3");
 
 /// Adds the run's raw weighted sums to `sums`, whose heights are relative to `z_ref_m`,
-/// and sum w var_z to sums.v.
-void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums);
+/// and sum w var_z to sums.v; with `occupancy`, the points' sub-cells to sums.occupied
+/// (occupancy_bit, map/moments.hpp).
+void add_plane_run(const RunPoints& run, double z_ref_m, FrameSums& sums, bool occupancy = false);
 
 /// Weighted height sums of a run (w, x and y unused): sum w, sum w z, sum w z^2 with z
 /// relative to `z_ref_m`, summed in float lanes about the run's first height like
