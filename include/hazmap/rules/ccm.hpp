@@ -46,8 +46,8 @@ struct CcmRule {
     /// in its published variance (SPEC 6.4).
     double max_slope_rad = 20.0 * M_PI / 180.0;
     /// Keep each cell's 4 x 4 occupancy mask (Cell::occupied): set per layer by make_layer
-    /// where map.layers.N.hole_free_coverage reads it; it costs about a seventh of the
-    /// layer's insertion, so other layers do not pay for it.
+    /// where map.layers.N.hole_free_coverage reads it; it costs that layer about a fifth
+    /// of its insertion time (docs/hazards.md), so other layers do not pay for it.
     bool occupancy = false;
   };
 
