@@ -851,10 +851,7 @@ LateralGate vouching_gate(const Config& config, const HazardParams& hazard_param
   gate.ray_model = config.sensor.model == SensorModel::ray;
   gate.pointing_px = config.sensor.pointing_error_px;
   gate.matching_px = config.sensor.disparity_error_px;
-  // bm and sgbm keep a match in the left border only with a window to spare from the
-  // right image's edge (c2f has no such rule).
-  if (config.stereo.matcher != StereoMatcher::c2f && config.stereo.match_left_border)
-    gate.edge_margin_px = config.stereo.block_size;
+  gate.edge_margin_px = right_border_drop_px(config.stereo);
   gate.blank_columns = blank_left_columns(config.stereo);
   for (size_t i = 0; i < config.map.layers.size(); ++i) {
     if (hazard_params.layers[i].h_min_m > hazard_params.critical_height_m) continue;

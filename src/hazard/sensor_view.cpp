@@ -17,9 +17,10 @@ namespace {
 struct Projector {
   const SensorView& view;
   Eigen::Vector3d normal, origin;  ///< the wheel plane in W
-  static constexpr int kPlanes = 7;
-  Eigen::Vector3d a[kPlanes];
-  double b[kPlanes];
+  static constexpr int kMaxPlanes = 7;
+  Eigen::Vector3d a[kMaxPlanes];
+  double b[kMaxPlanes];
+  int planes;  ///< 6, or 7 with the right image's edge (SensorView::right_edge_margin_px)
   double x_min, x_max, y_min, y_max;  ///< W bounds of the frustum: nothing seen outside
 
   explicit Projector(const SensorView& v)
@@ -29,21 +30,19 @@ struct Projector {
     const double u0 = std::max(m, v.blank_left_px) - 0.5, u1 = v.width_px - 0.5 - m;
     const double v0 = m - 0.5, v1 = v.height_px - 0.5 - m;
     // Camera-frame planes n . p_C + c >= 0.
-    // The right image's left edge; with no margin the plane still holds u_right >= -0.5
-    // only where the right image is checked (a margin of 0 leaves the half-space open).
+    // The right image's left edge, where the view checks it.
     const double ur0 = v.right_edge_margin_px - 0.5;
-    const bool right = v.right_edge_margin_px > 0 && v.baseline_m > 0;
-    const Eigen::Vector3d n[kPlanes] = {
-        {0, 0, 1},
-        {0, 0, -1},
-        {f, 0, v.cx_px - u0},
-        {-f, 0, u1 - v.cx_px},
-        {0, f, v.cy_px - v0},
-        {0, -f, v1 - v.cy_px},
-        right ? Eigen::Vector3d(f, 0, v.cx_px - ur0) : Eigen::Vector3d(0, 0, 0)};
-    const double c[kPlanes] = {-std::max(v.z_min_m, 1e-3),     v.z_max_m, 0, 0, 0, 0,
-                               right ? -f * v.baseline_m : 0.0};
-    for (int i = 0; i < kPlanes; ++i) {  // n . (R p_W + t) + c
+    planes = v.right_edge_margin_px > 0 && v.baseline_m > 0 ? 7 : 6;
+    const Eigen::Vector3d n[kMaxPlanes] = {{0, 0, 1},
+                                           {0, 0, -1},
+                                           {f, 0, v.cx_px - u0},
+                                           {-f, 0, u1 - v.cx_px},
+                                           {0, f, v.cy_px - v0},
+                                           {0, -f, v1 - v.cy_px},
+                                           {f, 0, v.cx_px - ur0}};
+    const double c[kMaxPlanes] = {-std::max(v.z_min_m, 1e-3), v.z_max_m, 0, 0, 0, 0,
+                                  -f * v.baseline_m};
+    for (int i = 0; i < planes; ++i) {  // n . (R p_W + t) + c
       a[i] = T_C_W.linear().transpose() * n[i];
       b[i] = n[i].dot(T_C_W.translation()) + c[i];
     }
@@ -84,7 +83,7 @@ struct Projector {
   bool sees(double x, double y, double z_lo, double z_hi) const {
     double t0 = 0.0, t1 = 1.0;
     const double dz = z_hi - z_lo;
-    for (int i = 0; i < kPlanes; ++i)
+    for (int i = 0; i < planes; ++i)
       if (!clip(a[i].x() * x + a[i].y() * y + a[i].z() * z_lo + b[i], a[i].z() * dz, t0, t1))
         return false;
     return true;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -66,13 +67,10 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
   // leaves blank on the left when it is not matched (stereo.match_left_border).
   view_.edge_margin_px = (config.stereo.block_size + 1) / 2;
   view_.blank_left_px = blank_left_columns(config.stereo);
-  // Nor where the match falls within a window of the right image's left border: bm and
-  // sgbm with the left border matched drop such matches (docs/stereo.md), and no matcher
-  // compares a whole window there.
+  // Nor where the match falls within half a window of the right image's left border (no
+  // matcher compares a whole window there), or within the band bm and sgbm drop.
   view_.right_edge_margin_px =
-      config.stereo.matcher != StereoMatcher::c2f && config.stereo.match_left_border
-          ? config.stereo.block_size
-          : view_.edge_margin_px;
+      std::max<double>(view_.edge_margin_px, right_border_drop_px(config.stereo));
   view_.z_min_m = config.stereo.z_min_m;
   view_.z_max_m = config.stereo.z_max_m;
   view_.band_below_m = config.stereo.band_max_depth_m;

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -315,21 +316,31 @@ Measurement point(double x, double y, double z) {
   return m;
 }
 
+/// An 8 x 8 CCM layer of r-metre cells that took `cloud` in one frame (with
+/// `hole_free_coverage` > 0 it keeps the cells' occupancy masks), and its export without
+/// marks in `plain`.
+std::unique_ptr<LayerStack> one_ccm_layer(double r, double hole_free_coverage,
+                                          const PointCloud& cloud, LayerGrids& plain) {
+  MapConfig map;
+  LayerConfig l;
+  l.rule = RuleKind::ccm;
+  l.resolution_m = r;
+  l.size = 8;
+  l.hole_free_coverage = hole_free_coverage;
+  map.layers.push_back(l);
+  auto s = std::make_unique<LayerStack>(map, RulesConfig{}, HazardConfig{});
+  s->begin_frame(0.0, 0.0);
+  s->insert(MapPoints(cloud));
+  s->export_layer(0, plain);
+  return s;
+}
+
 TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
   // Cell [0, r)^2 holds points on z = 1 + 0.3 x - 0.2 y over x in [0, 0.74 r): coverage
   // 0.548 (kappa of a uniform strip 0.74 wide), short of rules.ccm.min_coverage 0.8, and
   // no point in its last column of 4 x 4 sub-cells (from 0.75 r), so only a mark gives it
   // a plane.
   const double r = 0.04;
-  MapConfig map;
-  LayerConfig l;
-  l.rule = RuleKind::ccm;
-  l.resolution_m = r;
-  l.size = 8;
-  map.layers.push_back(l);
-  RulesConfig rules;
-  LayerStack s(map, rules, HazardConfig{});
-  s.begin_frame(0.0, 0.0);
   PointCloud cloud;
   const int k = 40;
   for (int i = 0; i < k; ++i)
@@ -340,9 +351,8 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
       const double xf = r + r * (i + 0.5) / k;
       cloud.push_back(point(xf, y, 1.0 + 0.3 * xf - 0.2 * y));
     }
-  s.insert(MapPoints(cloud));
   LayerGrids plain;
-  s.export_layer(0, plain);
+  const std::unique_ptr<LayerStack> s = one_ccm_layer(r, 0.0, cloud, plain);
   int row = 0, col = 0;
   ASSERT_TRUE(plain.height.cell_at(0.5 * r, 0.5 * r, &row, &col));
   ASSERT_NEAR(plain.coverage.at(row, col), 0.74 * 0.74, 0.01);
@@ -363,7 +373,7 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
     marks.at(row, col) = c.mark;
     const SeenWhole rule{&marks, c.min_coverage, c.min_points};
     LayerGrids g;
-    s.export_layer(0, g, &rule);
+    s->export_layer(0, g, &rule);
     // A plane by the mark is for the cell's own tests only (kEvaluableOwnCell).
     ASSERT_EQ(g.evaluable.at(row, col), c.evaluable ? kEvaluableOwnCell : 0.0f) << c.mark << " " << c.min_coverage;
     if (c.evaluable) {
@@ -399,7 +409,7 @@ TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {
     marks.at(frow, fcol) = mark;
     const SeenWhole rule{&marks, 0.5, 10};
     LayerGrids g;
-    s.export_layer(0, g, &rule);
+    s->export_layer(0, g, &rule);
     EXPECT_EQ(g.evaluable.at(frow, fcol), 1.0f) << mark;
     EXPECT_NEAR(g.slope_x.at(frow, fcol), 0.3, 1e-3) << mark;
   }
@@ -423,15 +433,6 @@ TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane)
   ASSERT_GT(kappa, 0.5);
   ASSERT_LT(kappa, 0.8);
   for (const bool corner_missing : {false, true}) {
-    MapConfig map;
-    LayerConfig l;
-    l.rule = RuleKind::ccm;
-    l.resolution_m = r;
-    l.size = 8;
-    l.hole_free_coverage = 0.5;  // the layer keeps the occupancy mask
-    map.layers.push_back(l);
-    LayerStack s(map, RulesConfig{}, HazardConfig{});
-    s.begin_frame(0.0, 0.0);
     PointCloud cloud;
     for (const double x : columns)
       for (int j = 0; j < 40; ++j) {
@@ -439,9 +440,9 @@ TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane)
         if (corner_missing && x >= 0.5 * r && y < 0.25 * r) continue;
         cloud.push_back(point(x, y, 1.0 + 0.3 * x - 0.2 * y));
       }
-    s.insert(MapPoints(cloud));
     LayerGrids plain;
-    s.export_layer(0, plain);
+    // hole_free_coverage 0.5: the layer keeps the occupancy mask.
+    const std::unique_ptr<LayerStack> s = one_ccm_layer(r, 0.5, cloud, plain);
     int row = 0, col = 0;
     ASSERT_TRUE(plain.height.cell_at(0.5 * r, 0.5 * r, &row, &col));
     if (!corner_missing) ASSERT_NEAR(plain.coverage.at(row, col), kappa, 1e-3);
@@ -455,7 +456,7 @@ TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane)
       for (const double min_coverage : {0.5, 0.8}) {
         const SeenWhole rule{&marks, min_coverage, 10};
         LayerGrids g;
-        s.export_layer(0, g, &rule);
+        s->export_layer(0, g, &rule);
         const bool evaluable = !corner_missing && min_coverage == 0.5;
         ASSERT_EQ(g.evaluable.at(row, col), evaluable ? kEvaluableOwnCell : 0.0f)
             << "corner missing " << corner_missing << ", mark " << mark << ", min coverage "

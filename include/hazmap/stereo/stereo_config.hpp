@@ -162,6 +162,13 @@ inline int blank_left_columns(const StereoConfig& c) {
   return matches_left_columns(c) ? 0 : c.min_disparity + c.num_disparities;
 }
 
+/// How far from the right image's left border a match must fall to be kept: bm and sgbm
+/// with match_left_border drop a match within block_size of it (a window to spare,
+/// docs/stereo.md); c2f, and OpenCV's blank band, have no such rule (0).
+inline int right_border_drop_px(const StereoConfig& c) {
+  return c.matcher != StereoMatcher::c2f && c.match_left_border ? c.block_size : 0;
+}
+
 struct SensorConfig {
   SensorModel model = SensorModel::axis;
   double pointing_error_px = 0.5;
