@@ -309,7 +309,7 @@ const std::vector<LayerKey>& layer_keys() {
        {old_auto_negative("rules.ccm.max_std_ratio"), finite("must be finite and >= 0 (0: off), or `auto` (rules.ccm.max_std_ratio)", 0)}},
       {"hole_free_coverage", LAYER_FIELD(hole_free_coverage), "",
        "CCM: a cell whose points spread over at least this share of it (kappa, as `rules.ccm.min_coverage`) also has a plane, for its own tests only, when no part of it went unmeasured: its points have landed in every one of its 4 x 4 sub-cells, or some frame's disparity image saw all of it (each quarter with a pixel on its level plane and none off it; a quarter no pixel matched, where the right camera could match, is a hole and ends the second way for good) ([docs/hazards.md](docs/hazards.md)); 0 off",
-       {in(0, 1, "[]")}, false, "shipped `cadre_flight`, `thesis_ccm`, `polar_traverse`: 0.5 on the 4 cm layer; `k10`: on the 2 cm layer"},
+       {in(0, 1, "[]")}, false, "shipped `cadre_flight`, `cadre_full_res`, `thesis_ccm`, `polar_traverse`: 0.5 on the 4 cm layer; `k10`: on the 2 cm layer"},
       {"hazard.kernel", LAYER_FIELD(hazard.kernel), "cells",
        "piecewise-constant layers: roughness kernel diameter (odd, smaller than the layer)",
        {odd_in(1, kInf, "must be odd, >= 1 and smaller than the layer size")}},
