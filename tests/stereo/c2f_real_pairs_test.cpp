@@ -128,22 +128,27 @@ TEST(C2fRealPairs, K10FillsTheNearestBouldersFace) {
 
   // Both near boulders are hazard in the fused map (rover at the origin looking along +x):
   // the nearest 0.8-1.3 m ahead, the second 3.0-3.8 m ahead, slightly right (boxes read
-  // off the fused hazard PNG, a boulder's width wide).
+  // off the fused hazard PNG, a boulder's width wide), and nothing in the nearest one is
+  // proven (it is all boulder and the ground it hides). Areas, not cells: the fused cell
+  // is the finest layer's (4 cm since 2026-12-06; 0.149 and 0.294 m^2 of hazard then,
+  // about as much as with 2 cm cells).
   const DenseGrid& fused = r.pipeline->fused_hazard();
-  auto hazard_cells = [&](double x0, double x1, double y0, double y1) {
+  auto area_m2 = [&](double x0, double x1, double y0, double y1, HazardClass c) {
     int n = 0;
     for (int row = 0; row < fused.rows; ++row)
       for (int col = 0; col < fused.cols; ++col) {
         const double x = fused.x_of_col(col), y = fused.y_of_row(row);
         if (x >= x0 && x <= x1 && y >= y0 && y <= y1)
-          n += fused.at(row, col) == static_cast<float>(HazardClass::hazard);
+          n += fused.at(row, col) == static_cast<float>(c);
       }
-    return n;
+    return n * fused.resolution_m * fused.resolution_m;
   };
-  const int nearest = hazard_cells(0.7, 1.4, -0.4, 0.4), second = hazard_cells(2.9, 3.9, -0.8, 0.2);
-  std::printf("K10 fused hazard cells: nearest boulder %d, second %d\n", nearest, second);
-  EXPECT_GE(nearest, 50);
-  EXPECT_GE(second, 50);
+  const double nearest = area_m2(0.7, 1.4, -0.4, 0.4, HazardClass::hazard);
+  const double second = area_m2(2.9, 3.9, -0.8, 0.2, HazardClass::hazard);
+  std::printf("K10 fused hazard: nearest boulder %.3f m^2, second %.3f m^2\n", nearest, second);
+  EXPECT_GE(nearest, 0.07);
+  EXPECT_GE(second, 0.15);
+  EXPECT_EQ(area_m2(0.7, 1.4, -0.4, 0.4, HazardClass::traversable), 0.0);
 }
 
 }  // namespace
