@@ -1,6 +1,7 @@
 #include "hazmap/stereo/point_cloud_builder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -162,7 +163,7 @@ PointCloudBuilder::PixelGates PointCloudBuilder::pixel_gates(const cv::Mat& disp
 
 // Occlusion by known terrain (ray_blocked): a ray is sampled every finest terrain cell out
 // to its row's reach, unless its lowest point on that stretch stays above the levels of
-// the prepared region (bounded once per call).
+// the prepared region (bounded once per call) or of its row segment's box (below).
 struct PointCloudBuilder::OcclusionGate {
   const KnownTerrain* terrain = nullptr;
   bool on = false;
@@ -170,24 +171,67 @@ struct PointCloudBuilder::OcclusionGate {
   double known_level = 0;   ///< known terrain less the margin, highest
   double unseen_level = 0;  ///< the highest assumed height of an unseen cell (near field)
 
+  // Most rays dip below the whole region's levels (one rock anywhere raises them), and
+  // each then pays for its own box (ray_blocked). The rays of kSegmentPx neighbouring
+  // pixels of a row, out to the row's reach, lie in the triangle of the camera and the
+  // segment's two end rays at that depth (a ray is linear in u), so that triangle's box
+  // bounds them all: one box per segment, and a ray whose stretch stays above the
+  // segment's levels is not blocked, exactly as its own box would say.
+  static constexpr int kSegmentPx = 32;
+  static constexpr int kMaxSegments = 512;
+  struct Segment {
+    int row = -1;  ///< the image row the levels are for (-1: none yet)
+    double known = 0, unseen = 0;
+  };
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< rectified camera -> W
+  double f = 1, cx = 0, cy = 0;
+  int segment_px = kSegmentPx, width = 0;
+  mutable std::array<Segment, kMaxSegments> segments{};
+
+  /// The segment of pixel (u, v): its levels, computed on first use in row v.
+  const Segment& segment(const Eigen::Vector3d& camera_W, int u, int v, double reach) const {
+    Segment& s = segments[static_cast<std::size_t>(u / segment_px)];
+    if (s.row == v) return s;
+    const int u0 = u / segment_px * segment_px, u1 = std::min(u0 + segment_px - 1, width - 1);
+    const Eigen::Vector3d r0 = R * Eigen::Vector3d((u0 - cx) / f, (v - cy) / f, 1.0);
+    const Eigen::Vector3d r1 = R * Eigen::Vector3d((u1 - cx) / f, (v - cy) / f, 1.0);
+    const Eigen::Vector3d b = camera_W + reach * r0, c = camera_W + reach * r1;
+    // A pad far above the rays' rounding (float rays: ~1e-7 m at a metre).
+    constexpr double kPad = 1e-5;
+    const double x0 = std::min({camera_W.x(), b.x(), c.x()}) - kPad;
+    const double x1 = std::max({camera_W.x(), b.x(), c.x()}) + kPad;
+    const double y0 = std::min({camera_W.y(), b.y(), c.y()}) - kPad;
+    const double y1 = std::max({camera_W.y(), b.y(), c.y()}) + kPad;
+    const KnownTerrain::Levels l = terrain->max_levels_in(x0, y0, x1, y1);
+    s.row = v;
+    s.known = std::min(known_level, l.top_m - margin_m);
+    s.unseen = std::min(unseen_level, l.unseen_m);
+    return s;
+  }
+
   /// `ray`: camera -> point in W per metre of depth; `depth` the point's; `reach`, `near`
-  /// its row's occlusion and near-field depths.
+  /// its row's occlusion and near-field depths; (u, v) its pixel.
   bool blocked(const Eigen::Vector3d& camera_W, const Eigen::Vector3d& ray, double depth,
-               double reach, double near) const {
+               double reach, double near, int u, int v) const {
     const double down = std::min(0.0, ray.z());
     const double far = std::min(reach, depth);
     // Cheap test first: a stretch whose lowest point (its start or end) stays above both
     // levels cannot be blocked.
-    if (!(camera_W.z() + down * far < known_level ||
-          camera_W.z() + down * std::min(far, near) < unseen_level))
-      return false;
+    const auto above = [&](double known, double unseen) {
+      return !(camera_W.z() + down * far < known ||
+               camera_W.z() + down * std::min(far, near) < unseen);
+    };
+    if (above(known_level, unseen_level)) return false;
+    const Segment& s = segment(camera_W, u, v, reach);
+    if (above(s.known, s.unseen)) return false;
     return ray_blocked(*terrain, camera_W, ray,
                        RayCheck{near, far, margin_m, sample_m, known_level, unseen_level});
   }
 };
 
-PointCloudBuilder::OcclusionGate PointCloudBuilder::occlusion_gate(
-    const KnownTerrain* terrain) const {
+PointCloudBuilder::OcclusionGate PointCloudBuilder::occlusion_gate(const KnownTerrain* terrain,
+                                                                   const Eigen::Matrix3d& R,
+                                                                   int width) const {
   OcclusionGate g;
   g.on = terrain != nullptr && terrain->prepared() && stereo_.occlusion_reach > 0;
   if (!g.on) return g;
@@ -196,6 +240,13 @@ PointCloudBuilder::OcclusionGate PointCloudBuilder::occlusion_gate(
   g.sample_m = terrain->finest_resolution_m();
   g.known_level = terrain->max_top() - g.margin_m;
   g.unseen_level = terrain->max_unseen_height();
+  g.R = R;
+  g.f = geometry_.focal_px;
+  g.cx = geometry_.cx_px;
+  g.cy = geometry_.cy_px;
+  g.width = width;
+  g.segment_px = std::max(OcclusionGate::kSegmentPx,
+                          (width + OcclusionGate::kMaxSegments - 1) / OcclusionGate::kMaxSegments);
   return g;
 }
 
@@ -285,7 +336,7 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
   const Eigen::Vector3d t = T_W_Cr.translation();
   const Eigen::Vector3d axis_W = R.col(2);  // the rectified optical axis in W
   const PixelGates gates = pixel_gates(disparity_x16);
-  const OcclusionGate occlusion = occlusion_gate(terrain);
+  const OcclusionGate occlusion = occlusion_gate(terrain, R, disparity_x16.cols);
   const Eigen::RowVector3d up_B = T_B_Cr_.linear().row(2);
   struct Row {
     double reach_m, near_m;  // the row's occlusion and near-field depths
@@ -298,7 +349,7 @@ PointDrops PointCloudBuilder::build_impl(const cv::Mat& disparity_x16, int inval
       return PixelFate::below_ground;
     const Eigen::Vector3d ray_W = R * p_C;  // camera -> point in W
     if (occlusion.on &&
-        occlusion.blocked(t, ray_W * (1.0 / p_C.z()), p_C.z(), r.reach_m, r.near_m))
+        occlusion.blocked(t, ray_W * (1.0 / p_C.z()), p_C.z(), r.reach_m, r.near_m, u, v))
       return PixelFate::occluded;
     Measurement m{};
     m.p_W = (ray_W + t).cast<float>();
@@ -364,7 +415,7 @@ PointDrops PointCloudBuilder::map_points_impl(const cv::Mat& disparity_x16, int 
   const double f = geometry_.focal_px, cx = geometry_.cx_px, cy = geometry_.cy_px;
   const double fb = f * geometry_.baseline_m;
   const PixelGates gates = pixel_gates(disparity_x16);
-  const OcclusionGate occlusion = occlusion_gate(terrain);
+  const OcclusionGate occlusion = occlusion_gate(terrain, R, disparity_x16.cols);
   const Eigen::Vector3d up_B = T_B_Cr_.linear().row(2).transpose();
 
   // Per point, with Z = f B / d and the ray r = ((u - cx) / f, (v - cy) / f, 1):
@@ -397,7 +448,7 @@ PointDrops PointCloudBuilder::map_points_impl(const cv::Mat& disparity_x16, int 
     return Row{(R * r).cast<float>(), static_cast<float>(up_B.dot(r)),
                static_cast<float>(ry * ry + 1.0), occlusion_depth_m(v), near_depth_m(v)};
   };
-  const auto pixel = [&](const Row& r, int u, int, int d16) {
+  const auto pixel = [&](const Row& r, int u, int v, int d16) {
     const float uf = static_cast<float>(u);
     const float z = fbf * 16.0f / static_cast<float>(d16);
     const float drop = z * (r.up + uf * up_du);
@@ -407,7 +458,7 @@ PointDrops PointCloudBuilder::map_points_impl(const cv::Mat& disparity_x16, int 
         }))
       return PixelFate::below_ground;
     const Eigen::Vector3f ray = r.ray + uf * du;  // camera -> point in W per metre of Z
-    if (occlusion.on && occlusion.blocked(t, ray.cast<double>(), z, r.reach_m, r.near_m))
+    if (occlusion.on && occlusion.blocked(t, ray.cast<double>(), z, r.reach_m, r.near_m, u, v))
       return PixelFate::occluded;
     const Eigen::Vector3f p = z * ray + tf;
     const float z2 = z * z;

@@ -283,5 +283,102 @@ TEST(OcclusionCheck, MapPointsPathDropsWhatTheCloudPathDrops) {
   }
 }
 
+// The builder's bounds before a ray's walk (the region's levels, then its row segment's
+// box) only skip rays the walk would let through: on a rocky world seen by a yawed and
+// rolled camera (row segments' boxes skewed), with unseen cells next to seen ones, the
+// pixels the builder drops are exactly those whose rays ray_blocked, asked alone with the
+// region's levels, finds blocked.
+TEST(OcclusionCheck, TheBuilderDropsExactlyTheRaysTheWalkFindsBlocked) {
+  auto height = [](double x, double y) {
+    // Blocks 4-12 cm high on level ground, some nearer than the search reaches.
+    const double rocks[][4] = {{0.02, -0.05, 0.06, 0.12},
+                               {0.12, 0.06, 0.05, 0.08},
+                               {0.25, -0.12, 0.07, 0.10},
+                               {0.05, 0.15, 0.04, 0.04},
+                               {0.40, 0.02, 0.10, 0.12}};
+    for (const auto& r : rocks)
+      if (std::abs(x - r[0]) < r[2] && std::abs(y - r[1]) < r[2]) return r[3];
+    return 0.0;
+  };
+  Pose3d T_B_C = Pose3d::Identity();
+  T_B_C.linear() = rotation_from_rpy(-M_PI / 2 - 30.0 * M_PI / 180.0, 0.08, -M_PI / 2 + 0.35);
+  T_B_C.translation() = Eigen::Vector3d(0.0, 0.025, 0.15);
+  const Pose3d T_W_B = Pose3d::Identity();
+  const Pose3d T_W_C = T_W_B * T_B_C;
+  // Disparities from marching each ray to the terrain, beyond the search a third.
+  const double fb = kGeometry.focal_px * kGeometry.baseline_m;
+  cv::Mat disparity(kRows, kCols, CV_16S);
+  for (int v = 0; v < kRows; ++v)
+    for (int u = 0; u < kCols; ++u) {
+      const Eigen::Vector3d ray =
+          T_W_C.linear() * Eigen::Vector3d((u - kGeometry.cx_px) / kGeometry.focal_px,
+                                           (v - kGeometry.cy_px) / kGeometry.focal_px, 1.0);
+      double depth = 0.0;
+      for (double z = 0.001; z < 3.0; z += 0.001) {
+        const Eigen::Vector3d p = T_W_C.translation() + z * ray;
+        if (p.z() <= height(p.x(), p.y())) {
+          depth = z;
+          break;
+        }
+      }
+      double d = depth > 0.0 ? fb / depth : 0.0;
+      if (d >= kDisparities) d /= 3.0;
+      disparity.at<int16_t>(v, u) = d > 0.0 ? static_cast<int16_t>(std::lround(16 * d)) : -16;
+    }
+  // The published terrain: every cell but a band the cameras never saw.
+  DenseGrid h, var, none;
+  h.reset(128, 128, 0.01, 0.14, 0.0, 0.0f);
+  var.reset(128, 128, 0.01, 0.14, 0.0, 1e-6f);
+  for (int r = 0; r < 128; ++r)
+    for (int c = 0; c < 128; ++c) {
+      const double x = h.x_of_col(c), y = h.y_of_row(r);
+      h.at(r, c) = x > 0.08 && x < 0.11 && y > 0.0 ? std::numeric_limits<float>::quiet_NaN()
+                                                   : static_cast<float>(height(x, y));
+    }
+  KnownTerrain terrain;
+  terrain.add_layer(h, var, none, none);
+  StereoConfig stereo = test_stereo();
+  stereo.max_below_ground_m = 0.0;  // no other drop: every pixel in range reaches the check
+  SensorConfig sensor;
+  const PointCloudBuilder builder(stereo, sensor, kGeometry, Eigen::Matrix3d::Identity(), T_B_C,
+                                  cv::Rect(0, 0, kCols, kRows));
+  builder.prepare_terrain(terrain, T_W_B);
+  ASSERT_GT(terrain.max_unseen_height(), 0.0);
+  PointCloud cloud;
+  cv::Mat marked = disparity.clone();
+  const PointDrops drops = builder.build(disparity, 0, T_W_B, terrain, cloud, nullptr, &marked);
+  MapPoints points;
+  cv::Mat marked_direct = disparity.clone();
+  builder.build_map_points(disparity, 0, T_W_B, terrain, CcmWeighting::constant, points,
+                           &marked_direct);
+
+  int blocked = 0, agree = 0, checked = 0;
+  for (int v = 0; v < kRows; ++v)
+    for (int u = 0; u < kCols; ++u) {
+      const int d16 = disparity.at<int16_t>(v, u);
+      if (d16 <= 0) continue;
+      const Eigen::Vector3d p_C = triangulate(kGeometry, u, v, d16 / 16.0);
+      if (!(p_C.z() >= stereo.z_min_m && p_C.z() <= stereo.z_max_m)) continue;
+      const Eigen::Vector3d ray = T_W_C.linear() * p_C / p_C.z();
+      const RayCheck c{builder.near_depth_m(v),
+                       std::min(builder.occlusion_depth_m(v), p_C.z()),
+                       stereo.occlusion_margin_m,
+                       terrain.finest_resolution_m(),
+                       terrain.max_top() - stereo.occlusion_margin_m,
+                       terrain.max_unseen_height()};
+      const bool want = ray_blocked(terrain, T_W_C.translation(), ray, c);
+      const bool got = marked.at<int16_t>(v, u) != d16;
+      blocked += want;
+      agree += want == got;
+      ++checked;
+      EXPECT_EQ(got, want) << u << "," << v;
+      EXPECT_EQ(marked_direct.at<int16_t>(v, u) != d16, want) << u << "," << v;
+    }
+  EXPECT_EQ(agree, checked);
+  EXPECT_EQ(static_cast<int>(drops.occluded), blocked);
+  EXPECT_GT(blocked, 200);             // the check has work to do here
+  EXPECT_GT(checked - blocked, 5000);  // and rays it lets through
+}
+
 }  // namespace
 }  // namespace hazmap

@@ -164,7 +164,9 @@ class PointCloudBuilder {
   struct OcclusionGate;
   /// The per-call gates both paths apply, so that they cannot drift apart.
   PixelGates pixel_gates(const cv::Mat& disparity_x16) const;
-  OcclusionGate occlusion_gate(const KnownTerrain* terrain) const;
+  /// `R`: the rectified camera's rotation into W this frame; `width`: the image's.
+  OcclusionGate occlusion_gate(const KnownTerrain* terrain, const Eigen::Matrix3d& R,
+                               int width) const;
   double near_depth_for(int search_end_px) const;
 
   StereoConfig stereo_;
