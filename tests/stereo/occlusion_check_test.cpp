@@ -50,8 +50,9 @@ struct Scene {
 };
 
 // True depth by marching each ray in 1 mm steps of depth to the first sample at or
-// below the terrain; disparities in range as they are, beyond it a third.
-Scene render(const Pose3d& T_W_C) {
+// below the terrain (`height`, the block world by default); disparities in range as they
+// are, beyond it a third.
+Scene render(const Pose3d& T_W_C, double (*height)(double, double) = terrain_height) {
   Scene s;
   s.disparity_x16.create(kRows, kCols, CV_16S);
   s.aliased = cv::Mat::zeros(kRows, kCols, CV_8U);
@@ -64,7 +65,7 @@ Scene render(const Pose3d& T_W_C) {
       double depth = 0.0;
       for (double z = 0.001; z < 3.0; z += 0.001) {
         const Eigen::Vector3d p = T_W_C.translation() + z * ray_W;
-        if (p.z() <= terrain_height(p.x(), p.y())) {
+        if (p.z() <= height(p.x(), p.y())) {
           depth = z;
           break;
         }
@@ -289,7 +290,7 @@ TEST(OcclusionCheck, MapPointsPathDropsWhatTheCloudPathDrops) {
 // pixels the builder drops are exactly those whose rays ray_blocked, asked alone with the
 // region's levels, finds blocked.
 TEST(OcclusionCheck, TheBuilderDropsExactlyTheRaysTheWalkFindsBlocked) {
-  auto height = [](double x, double y) {
+  const auto height = +[](double x, double y) {
     // Blocks 4-12 cm high on level ground, some nearer than the search reaches.
     const double rocks[][4] = {{0.02, -0.05, 0.06, 0.12},
                                {0.12, 0.06, 0.05, 0.08},
@@ -305,26 +306,7 @@ TEST(OcclusionCheck, TheBuilderDropsExactlyTheRaysTheWalkFindsBlocked) {
   T_B_C.translation() = Eigen::Vector3d(0.0, 0.025, 0.15);
   const Pose3d T_W_B = Pose3d::Identity();
   const Pose3d T_W_C = T_W_B * T_B_C;
-  // Disparities from marching each ray to the terrain, beyond the search a third.
-  const double fb = kGeometry.focal_px * kGeometry.baseline_m;
-  cv::Mat disparity(kRows, kCols, CV_16S);
-  for (int v = 0; v < kRows; ++v)
-    for (int u = 0; u < kCols; ++u) {
-      const Eigen::Vector3d ray =
-          T_W_C.linear() * Eigen::Vector3d((u - kGeometry.cx_px) / kGeometry.focal_px,
-                                           (v - kGeometry.cy_px) / kGeometry.focal_px, 1.0);
-      double depth = 0.0;
-      for (double z = 0.001; z < 3.0; z += 0.001) {
-        const Eigen::Vector3d p = T_W_C.translation() + z * ray;
-        if (p.z() <= height(p.x(), p.y())) {
-          depth = z;
-          break;
-        }
-      }
-      double d = depth > 0.0 ? fb / depth : 0.0;
-      if (d >= kDisparities) d /= 3.0;
-      disparity.at<int16_t>(v, u) = d > 0.0 ? static_cast<int16_t>(std::lround(16 * d)) : -16;
-    }
+  const cv::Mat disparity = render(T_W_C, height).disparity_x16;
   // The published terrain: every cell but a band the cameras never saw.
   DenseGrid h, var, none;
   h.reset(128, 128, 0.01, 0.14, 0.0, 0.0f);
