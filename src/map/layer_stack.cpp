@@ -79,11 +79,12 @@ void LayerStack::begin_frame(double robot_x_m, double robot_y_m, const PoseNoise
 }
 
 namespace {
-/// LayerStack::insert's work: `lap(i)` is called after each piece of layer i's work.
-/// `bounds` grows by every chunk's points.
-template <class Lap>
+/// LayerStack::insert's work for the layers `take(i)` selects: `lap(i)` is called after
+/// each piece of layer i's work. `bounds` (if given) grows by every chunk's points.
+template <class Take, class Lap>
 std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vector<PoolGrid>& pools,
-                          bool pooling, const MapPoints& points, PointBounds& bounds, Lap&& lap) {
+                          bool pooling, const MapPoints& points, PointBounds* bounds, Take&& take,
+                          Lap&& lap) {
   // Each chunk is read by every layer while it is in cache. The first layer to read it
   // pays for bringing it in (~0.5-0.8 ns per point on the flight stack, measured), so the
   // coarsest layer, with the most room under its target, goes first and the 1 cm layer
@@ -91,19 +92,22 @@ std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vect
   std::size_t updates = 0;
   const std::size_t n = layers.size();
   for (std::size_t i = 0; i < n; ++i) {
+    if (!take(i)) continue;
     layers[i]->begin_insert();
     lap(i);
   }
   points.for_each_chunk([&](const PointChunk& chunk) {
     // The bounding box (changed_cells) in the same loop: the chunk is read once from
     // memory, not once for the box and again for the layers.
-    bounds.extend(chunk.x, chunk.y, chunk.size);
+    if (bounds) bounds->extend(chunk.x, chunk.y, chunk.size);
     for (std::size_t i = n; i-- > 0;) {
+      if (!take(i)) continue;
       updates += layers[i]->insert_chunk(chunk);
       lap(i);
     }
   });
   for (std::size_t i = 0; i < n; ++i) {
+    if (!take(i)) continue;
     layers[i]->end_insert();
     lap(i);
   }
@@ -119,6 +123,16 @@ std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vect
 }
 }  // namespace
 
+void LayerStack::set_parallel(const ParallelFor* pool) {
+  const std::size_t n = layers_.size();
+  const int sets = pool ? static_cast<int>(std::min<std::size_t>(pool->threads(), n)) : 1;
+  pool_ = sets > 1 && !pooling_ ? pool : nullptr;
+  group_of_.assign(n, 0);
+  by_time_.resize(n);
+  group_load_.assign(static_cast<std::size_t>(sets), 0);
+  group_updates_.assign(static_cast<std::size_t>(sets), 0);
+}
+
 std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
   // The points' bounding box: which cells this insert may change (changed_cells), grown
   // chunk by chunk in the insertion loop (internal/point_bounds.hpp).
@@ -128,19 +142,69 @@ std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
   auto keep_bounds = [&] {
     min_x_ = bounds.lo_x, max_x_ = bounds.hi_x, min_y_ = bounds.lo_y, max_y_ = bounds.hi_y;
   };
-  if (layer_ms == nullptr) {
-    const std::size_t updates =
-        insert_layers(layers_, pools_, pooling_, points, bounds, [](std::size_t) {});
+  auto all = [](std::size_t) { return true; };
+  using Clock = std::chrono::steady_clock;
+  if (pool_) {
+    // Longest layer of the frame before to the least loaded set (the first frame, every
+    // time 0: in turn).
+    const std::size_t n = layers_.size(), sets = group_load_.size();
+    // Insertion sort, stable (std::stable_sort may allocate; a stack has a few layers).
+    for (std::size_t i = 0; i < n; ++i) {
+      std::size_t k = i;
+      for (; k > 0 && layer_ticks_[static_cast<std::size_t>(by_time_[k - 1])] < layer_ticks_[i];
+           --k)
+        by_time_[k] = by_time_[k - 1];
+      by_time_[k] = static_cast<int>(i);
+    }
+    std::fill(group_load_.begin(), group_load_.end(), 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = static_cast<std::size_t>(by_time_[k]);
+      std::size_t lightest = 0;
+      for (std::size_t g = 1; g < sets; ++g)
+        if (group_load_[g] < group_load_[lightest]) lightest = g;
+      group_of_[i] = static_cast<int>(lightest);
+      group_load_[lightest] += std::max<std::uint64_t>(layer_ticks_[i], 1);
+    }
+    std::fill(layer_ticks_.begin(), layer_ticks_.end(), 0);
+    const Clock::time_point start = Clock::now();
+    const std::uint64_t start_ticks = read_ticks();
+    parallel_for(pool_, static_cast<int>(sets), [&](int begin, int end) {
+      for (int g = begin; g < end; ++g) {
+        std::uint64_t last = read_ticks();
+        group_updates_[static_cast<std::size_t>(g)] = insert_layers(
+            layers_, pools_, false, points, g == 0 ? &bounds : nullptr,
+            [&](std::size_t i) { return group_of_[i] == g; },
+            [&](std::size_t i) {
+              const std::uint64_t now = read_ticks();
+              layer_ticks_[i] += now - last;
+              last = now;
+            });
+      }
+    });
+    const double ms = ms_since(start);
+    const std::uint64_t ticks = read_ticks() - start_ticks;
+    std::size_t updates = 0;
+    for (const std::size_t u : group_updates_) updates += u;
+    if (layer_ms)
+      for (std::size_t i = 0; i < n; ++i)
+        layer_ms[i] = ticks > 0
+                          ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
+                          : 0.0;
     keep_bounds();
     return updates;
   }
-  using Clock = std::chrono::steady_clock;
+  if (layer_ms == nullptr) {
+    const std::size_t updates =
+        insert_layers(layers_, pools_, pooling_, points, &bounds, all, [](std::size_t) {});
+    keep_bounds();
+    return updates;
+  }
   std::fill(layer_ticks_.begin(), layer_ticks_.end(), 0);
   const Clock::time_point start = Clock::now();
   const std::uint64_t start_ticks = read_ticks();
   std::uint64_t last = start_ticks;
   const std::size_t updates =
-      insert_layers(layers_, pools_, pooling_, points, bounds, [&](std::size_t i) {
+      insert_layers(layers_, pools_, pooling_, points, &bounds, all, [&](std::size_t i) {
         const std::uint64_t now = read_ticks();
         layer_ticks_[i] += now - last;
         last = now;

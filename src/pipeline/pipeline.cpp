@@ -9,6 +9,7 @@
 
 #include "hazmap/core/error.hpp"
 #include "hazmap/core/stopwatch.hpp"
+#include "hazmap/pipeline/thread_pool.hpp"
 #include "hazmap/rules/rule_registry.hpp"
 #include "hazmap/stereo/sensor_model.hpp"
 
@@ -54,6 +55,7 @@ Pipeline::Pipeline(const Config& config, const StereoCalibration& calibration)
     : config_(check_map_fits_memory(config)),
       front_(config.stereo, config.sensor, calibration, /*keep_pixels=*/false),
       mapper_(config, config.pose_uncertainty.enabled) {
+  mapper_.set_parallel(&opencv_parallel_for());  // the stereo stages' pool, idle by then
   // The axis model's covariance has closed forms for all the map reads: skip the cloud.
   if (config.sensor.model == SensorModel::axis) front_.set_map_points_output(mapper_.weighting());
   const Rectifier& rect = front_.rectifier();

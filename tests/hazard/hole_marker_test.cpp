@@ -427,8 +427,9 @@ TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane)
   for (int i = 0; i < 34; ++i) columns.push_back(0.5 * r * (i + 0.5) / 34);
   for (int i = 0; i < 6; ++i) columns.push_back(0.5 * r + 0.5 * r * (i + 0.5) / 6);
   double mean = 0, square = 0;
-  for (const double x : columns) mean += x / columns.size();
-  for (const double x : columns) square += (x - mean) * (x - mean) / columns.size();
+  const double count = static_cast<double>(columns.size());
+  for (const double x : columns) mean += x / count;
+  for (const double x : columns) square += (x - mean) * (x - mean) / count;
   const double kappa = square / (r * r / 12.0);
   ASSERT_GT(kappa, 0.5);
   ASSERT_LT(kappa, 0.8);
@@ -445,7 +446,9 @@ TEST(HoleMarker, ExportGivesAnUnevenlySampledCellWithEverySubCellFilledItsPlane)
     const std::unique_ptr<LayerStack> s = one_ccm_layer(r, 0.5, cloud, plain);
     int row = 0, col = 0;
     ASSERT_TRUE(plain.height.cell_at(0.5 * r, 0.5 * r, &row, &col));
-    if (!corner_missing) ASSERT_NEAR(plain.coverage.at(row, col), kappa, 1e-3);
+    if (!corner_missing) {
+      ASSERT_NEAR(plain.coverage.at(row, col), kappa, 1e-3);
+    }
     ASSERT_GT(plain.coverage.at(row, col), 0.5);
     ASSERT_EQ(plain.evaluable.at(row, col), 0.0f);
     DenseGrid marks;

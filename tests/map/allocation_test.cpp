@@ -1,13 +1,13 @@
 // The per-frame path allocates nothing once the map is built: count every operator new
 // in this test binary across frames 2..N of the map, its export and the hazard filters.
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <new>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "hazmap/hazard/fused_hazard.hpp"
 #include "hazmap/hazard/hazard_classifier.hpp"
@@ -18,6 +18,7 @@
 #include "hazmap/map/layer_stack.hpp"
 #include "hazmap/pipeline/frame_writer.hpp"
 #include "hazmap/pipeline/pipeline.hpp"
+#include "hazmap/pipeline/thread_pool.hpp"
 #include "hazmap/stereo/c2f_matcher.hpp"
 #include "hazmap/stereo/stereo_front_end.hpp"
 #include "test_support.hpp"
@@ -118,6 +119,7 @@ void run(const std::string& insertion, bool pose) {
   HazardStage whole(params, false), incremental(params, true);
   // The core's facade, as Pipeline and the Python LayerStack run it (hazard/mapper.hpp).
   Mapper mapper(config, pose);
+  mapper.set_parallel(&opencv_parallel_for());  // as Pipeline runs it: on the thread pool
   long after_first = 0;
   std::size_t consistency_gated = 0;
   for (int frame = 0; frame < 6; ++frame) {

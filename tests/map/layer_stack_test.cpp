@@ -2,18 +2,21 @@
 
 #include "hazmap/map/layer_stack.hpp"
 
+#include <gtest/gtest.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <iterator>
-#include <cmath>
 #include <map>
 #include <memory>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
+#include <thread>
+#include <vector>
 
 #include "hazmap/core/error.hpp"
+#include "hazmap/core/parallel_for.hpp"
 #include "hazmap/io/config.hpp"  // validate()
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/ccm.hpp"
@@ -302,6 +305,77 @@ TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
       }
     }
   }
+}
+
+/// A ParallelFor on std::threads: part k of `threads` on its own thread, all at once.
+class ThreadsFor final : public ParallelFor {
+ public:
+  explicit ThreadsFor(int threads) : threads_(threads) {}
+  void run(int n, const RangeTask& task) const override {
+    std::vector<std::thread> pool;
+    for (int k = 0; k < threads_; ++k) {
+      const int begin = n * k / threads_, end = n * (k + 1) / threads_;
+      if (begin < end) pool.emplace_back([&task, begin, end] { task(begin, end); });
+    }
+    for (std::thread& t : pool) t.join();
+  }
+  int threads() const override { return threads_; }
+
+ private:
+  int threads_;
+};
+
+// Layers inserted on several threads (each thread a set of layers through every chunk,
+// the sets rebalanced from the frame before's times): every grid bit for bit as on one
+// thread, the changed cells, gate counts and updates too, timed or not, on 2 and 3
+// threads over a 5-layer mixed stack that rolls.
+TEST(LayerStack, LayersOnSeveralThreadsPublishTheSameBitsAsOnOne) {
+  RulesConfig rules;
+  rules.kalman.gate_sigma = 3.0;
+  rules.ccm.max_std_ratio = 1.0;
+  MapConfig map = stack(RuleKind::kalman, "all_layers",
+                        {{0.01, 64}, {0.02, 48}, {0.04, 24}, {0.08, 16}, {0.16, 8}});
+  map.layers[1].rule = map.layers[3].rule = RuleKind::ccm;
+  map.layers[4].rule = RuleKind::omg;
+  for (const int threads : {2, 3})
+    for (const bool timed : {false, true}) {
+      const ThreadsFor pool(threads);
+      LayerStack serial(map, rules), parallel(map, rules);
+      parallel.set_parallel(&pool);
+      std::vector<double> layer_ms(map.layers.size(), -1.0);
+      std::mt19937_64 rng(29);
+      MapPoints points;
+      for (int frame = 0; frame < 5; ++frame) {
+        const double robot_x = 0.04 * frame, robot_y = 0.02 * frame;
+        points.assign(scan_lines(rng, robot_x + 0.1, robot_y), CcmWeighting::constant);
+        serial.begin_frame(robot_x, robot_y);
+        parallel.begin_frame(robot_x, robot_y);
+        const std::size_t expected = serial.insert(points);
+        EXPECT_EQ(parallel.insert(points, timed ? layer_ms.data() : nullptr), expected);
+        for (std::size_t i = 0; i < serial.size(); ++i) {
+          const std::string what = std::to_string(threads) + " threads" + (timed ? ", timed" : "") +
+                                   ", layer " + std::to_string(i) + ", frame " +
+                                   std::to_string(frame);
+          LayerGrids a, b;
+          serial.export_layer(i, a);
+          parallel.export_layer(i, b);
+          expect_same_grids(a, b, what);
+          const CellRange ca = serial.changed_cells(i), cb = parallel.changed_cells(i);
+          EXPECT_TRUE(ca.x0 == cb.x0 && ca.x1 == cb.x1 && ca.y0 == cb.y0 && ca.y1 == cb.y1) << what;
+          EXPECT_EQ(serial.gate_counts(i).std_gate, parallel.gate_counts(i).std_gate) << what;
+          EXPECT_EQ(serial.gate_counts(i).consistency_gate,
+                    parallel.gate_counts(i).consistency_gate)
+              << what;
+          if (timed) {
+            EXPECT_GT(layer_ms[i], 0.0) << what;  // every layer ran, and was timed
+          }
+          if (frame == 4) {
+            EXPECT_GT(expect_identical_cells(serial.layer(i), parallel.layer(i), what), 20) << what;
+          }
+          if (::testing::Test::HasFailure()) return;
+        }
+      }
+    }
 }
 
 TEST(LayerStack, MixedFamiliesNeedAllLayers) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hazmap/core/core_config.hpp"
+#include "hazmap/core/parallel_for.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/hazard/hazard_stage.hpp"
 #include "hazmap/map/known_terrain.hpp"
@@ -45,6 +46,10 @@ class Mapper {
   /// new grids. `view`: what the frame's cameras looked at (hazard.partial_ring_proof:
   /// view_edge), null when the points came from elsewhere.
   void classify(const SensorView* view = nullptr);
+
+  /// Runs the insertion and the hazard stage's larger loops on `pool`'s threads (null:
+  /// in the calling thread); the same results either way. `pool` must outlive its use.
+  void set_parallel(const ParallelFor* pool);
 
   const LayerStack& layers() const { return map_; }
   const HazardStage& hazards() const { return hazards_; }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hazmap/core/core_config.hpp"
+#include "hazmap/core/parallel_for.hpp"
 #include "hazmap/map/layer.hpp"
 #include "hazmap/map/pose_uncertainty.hpp"
 
@@ -40,10 +41,17 @@ class LayerStack {
   /// Inserts the frame's points and, in finest_then_pool mode, rebuilds covered coarse
   /// cells from their children. Returns the number of point-into-layer updates. The
   /// points go in chunks to every layer in turn, coarsest first (layer_stack.cpp).
-  /// `layer_ms`, if given (size() entries): each layer's share of the call's wall time,
-  /// in milliseconds, measured inside the chunk loop (a layer pays for the cache traffic
-  /// the others cause it); pooling into a layer counts for that layer.
+  /// `layer_ms`, if given (size() entries): each layer's time in milliseconds, measured
+  /// inside the chunk loop (a layer pays for the cache traffic the others cause it);
+  /// pooling into a layer counts for that layer. In one thread they add up to the call's
+  /// wall time; on several (set_parallel) to more.
   std::size_t insert(const MapPoints& points, double* layer_ms = nullptr);
+
+  /// Inserts on `pool`'s threads (null: in the calling thread): each thread takes a set
+  /// of layers through every chunk, the sets balanced by the layers' times in the frame
+  /// before. The same results: a layer's state depends only on its own points. Not in
+  /// finest_then_pool mode, where one layer takes the points. `pool` must outlive its use.
+  void set_parallel(const ParallelFor* pool);
 
   /// Exports layer i's grids (variance inflated by pose uncertainty when enabled);
   /// `seen_whole`: its cells also evaluable by a hole-free view (map/seen_whole.hpp).
@@ -74,6 +82,11 @@ class LayerStack {
   std::vector<std::unique_ptr<Layer>> layers_;
   std::vector<PoolGrid> pools_;  ///< pools_[i]: children of layer i (i >= 1)
   std::vector<std::uint64_t> layer_ticks_;  ///< insert's per-layer time, in read_ticks() units
+  const ParallelFor* pool_ = nullptr;
+  std::vector<int> group_of_;               ///< set_parallel: layer i's thread's set
+  std::vector<int> by_time_;                ///< layers, longest last frame first
+  std::vector<std::uint64_t> group_load_;   ///< per set: ticks assigned, while balancing
+  std::vector<std::size_t> group_updates_;  ///< per set: its point-into-layer updates
   bool pooling_ = false;
   bool track_pose_ = false;
   PoseUncertainty pose_;
