@@ -1,13 +1,36 @@
 #pragma once
-// Helpers shared by the tests: unique temporary folders that clean up after themselves.
+// Helpers shared by the tests: unique temporary folders that clean up after themselves,
+// and a ParallelFor on plain threads.
+
+#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
-#include <gtest/gtest.h>
+#include "hazmap/core/parallel_for.hpp"
 
 namespace hazmap::testing {
+
+/// A ParallelFor on std::threads: part k of `threads` on its own thread, all at once.
+class ThreadsFor final : public ParallelFor {
+ public:
+  explicit ThreadsFor(int threads) : threads_(threads) {}
+  void run(int n, const RangeTask& task) const override {
+    std::vector<std::thread> pool;
+    for (int k = 0; k < threads_; ++k) {
+      const int begin = n * k / threads_, end = n * (k + 1) / threads_;
+      if (begin < end) pool.emplace_back([&task, begin, end] { task(begin, end); });
+    }
+    for (std::thread& t : pool) t.join();
+  }
+  int threads() const override { return threads_; }
+
+ private:
+  int threads_;
+};
 
 class TempDir {
  public:

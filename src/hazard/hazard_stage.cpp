@@ -235,7 +235,7 @@ bool HazardStage::run_layer(const LayerStack& map, std::size_t i, CellIndex fuse
                              ? view->layer_depth_limit_m[i]
                              : 1e300;
     return HoleMarker::mark(*view, v.map, params_.layers[i].hole_free_tolerance_px, v.seen_whole,
-                            limit);
+                            limit, pool_);
   };
 
   // Whole when the coarser layer this one's rings read was (rare: a jump, the first frame).

@@ -1,6 +1,7 @@
 #include "hazmap/hazard/hole_marker.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace hazmap {
@@ -111,32 +112,43 @@ float HoleMarker::test_cell(const SensorView& view, double x0, double x1, double
 }
 
 GridRect HoleMarker::mark(const SensorView& view, const LayerGrids& map, double tolerance_px,
-                          DenseGrid& marks, double max_depth_m) {
-  GridRect changed;
-  if (view.disparity_x16 == nullptr || map.coverage.rows == 0) return changed;
+                          DenseGrid& marks, double max_depth_m, const ParallelFor* pool) {
+  if (view.disparity_x16 == nullptr || map.coverage.rows == 0) return {};
   const Camera camera(view, max_depth_m);
   const DenseGrid& g = map.height;
   const double h = 0.5 * g.resolution_m;
-  for (int row = 0; row < g.rows; ++row) {
-    const double y = g.y_of_row(row);
-    for (int col = 0; col < g.cols; ++col) {
-      float& mark = marks.at(row, col);
-      if (mark == kHoleSeen) continue;
-      const float z = g.at(row, col);
-      // Every known cell, also one not yet covered enough: a hole seen now still counts
-      // when more points come. A cell the rule itself gives a plane needs its mark only
-      // for when its coverage falls (older points discounted as it leaves the view), and
-      // once it is seen whole it is not tested again (measured: testing every such cell
-      // every frame was a third of the hazard stage).
-      if (std::isnan(z) || (mark == kSeenWhole && map.evaluable.at(row, col) == 1.0f)) continue;
-      const double x = g.x_of_col(col);
-      const float now = camera.test(x - h, x + h, y - h, y + h, z, tolerance_px);
-      if (now <= mark) continue;
-      mark = now;
-      changed = changed.hull({row, row + 1, col, col + 1});
+  // Bands of rows, each cell's mark its own: each band's changed cells in its own hull.
+  constexpr int kMaxBands = 16, kRowsPerBand = 4;
+  std::array<GridRect, kMaxBands> changed{};
+  const int bands =
+      std::clamp(std::min(g.rows / kRowsPerBand, pool ? 2 * pool->threads() : 1), 1, kMaxBands);
+  parallel_for(pool, bands, [&](int begin, int end) {
+    for (int b = begin; b < end; ++b) {
+      for (int row = g.rows * b / bands; row < g.rows * (b + 1) / bands; ++row) {
+        const double y = g.y_of_row(row);
+        for (int col = 0; col < g.cols; ++col) {
+          float& mark = marks.at(row, col);
+          if (mark == kHoleSeen) continue;
+          const float z = g.at(row, col);
+          // Every known cell, also one not yet covered enough: a hole seen now still
+          // counts when more points come. A cell the rule itself gives a plane needs its
+          // mark only for when its coverage falls (older points discounted as it leaves
+          // the view), and once it is seen whole it is not tested again (measured:
+          // testing every such cell every frame was a third of the hazard stage).
+          if (std::isnan(z) || (mark == kSeenWhole && map.evaluable.at(row, col) == 1.0f)) continue;
+          const double x = g.x_of_col(col);
+          const float now = camera.test(x - h, x + h, y - h, y + h, z, tolerance_px);
+          if (now <= mark) continue;
+          mark = now;
+          changed[static_cast<std::size_t>(b)] =
+              changed[static_cast<std::size_t>(b)].hull({row, row + 1, col, col + 1});
+        }
+      }
     }
-  }
-  return changed;
+  });
+  GridRect all;
+  for (int b = 0; b < bands; ++b) all = all.hull(changed[static_cast<std::size_t>(b)]);
+  return all;
 }
 
 }  // namespace hazmap

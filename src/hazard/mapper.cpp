@@ -31,7 +31,10 @@ std::size_t Mapper::insert(const PointCloud& cloud, double robot_x_m, double rob
   return insert(assign_points(cloud), robot_x_m, robot_y_m, noise);
 }
 
-void Mapper::set_parallel(const ParallelFor* pool) { map_.set_parallel(pool); }
+void Mapper::set_parallel(const ParallelFor* pool) {
+  map_.set_parallel(pool);
+  hazards_.set_parallel(pool);
+}
 
 void Mapper::classify(const SensorView* view) {
   hazards_.run(map_, view);

@@ -17,6 +17,7 @@
 
 #include "hazmap/hazard/plane_classifier.hpp"
 #include "hazmap/map/layer_stack.hpp"
+#include "test_support.hpp"
 
 namespace hazmap {
 namespace {
@@ -333,6 +334,46 @@ std::unique_ptr<LayerStack> one_ccm_layer(double r, double hole_free_coverage,
   s->insert(MapPoints(cloud));
   s->export_layer(0, plain);
   return s;
+}
+
+// mark() in bands of rows on threads against one thread: the same marks and the same
+// changed rectangle, over a field of known cells with holes punched in the disparities
+// and some cells off the ground plane, frame after frame.
+TEST(HoleMarker, BandsOnThreadsMarkAsOneThread) {
+  Scene s;
+  std::mt19937 rng(41);
+  std::uniform_int_distribution<int> pixel_u(0, 399), pixel_v(0, 299);
+  for (int k = 0; k < 150; ++k) {  // holes of 12 x 12 pixels
+    const int u0 = pixel_u(rng), v0 = pixel_v(rng);
+    for (int v = v0; v < std::min(300, v0 + 12); ++v)
+      for (int u = u0; u < std::min(400, u0 + 12); ++u) s.at(u, v) = 0;
+  }
+  LayerGrids g;
+  const int n = 24;
+  const double r = 0.04;
+  for (DenseGrid* d : {&g.height, &g.coverage, &g.count, &g.evaluable})
+    d->reset(n, n, r, 0.9, 0.45, 0.0f);
+  std::uniform_real_distribution<float> u01(0.f, 1.f);
+  for (int i = 0; i < n * n; ++i) {
+    const float p = u01(rng);
+    g.height.values[static_cast<size_t>(i)] = p < 0.1f ? std::nanf("") : p < 0.2f ? 0.05f : 0.0f;
+  }
+  for (const int threads : {2, 3}) {
+    const testing::ThreadsFor pool(threads);
+    DenseGrid one, many;
+    one.reset(n, n, r, 0.9, 0.45, 0.0f);
+    many.reset(n, n, r, 0.9, 0.45, 0.0f);
+    for (int frame = 0; frame < 2; ++frame) {
+      const GridRect a = HoleMarker::mark(s.view, g, kTol, one);
+      const GridRect b = HoleMarker::mark(s.view, g, kTol, many, 1e300, &pool);
+      EXPECT_TRUE(a == b) << threads << " threads, frame " << frame;
+      EXPECT_EQ(one.values, many.values) << threads << " threads, frame " << frame;
+    }
+    int whole = 0, holes = 0;
+    for (const float m : one.values) whole += m == kSeenWhole, holes += m == kHoleSeen;
+    EXPECT_GT(whole, 40);  // both verdicts occur, on many cells
+    EXPECT_GT(holes, 20);
+  }
 }
 
 TEST(HoleMarker, ExportGivesAMarkedPartlyCoveredCellItsPlane) {

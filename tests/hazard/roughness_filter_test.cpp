@@ -1,12 +1,13 @@
 #include "hazmap/hazard/roughness_filter.hpp"
 
-#include "hazmap/hazard/kernel_classifier.hpp"
+#include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <random>
 
-#include <Eigen/Dense>
-#include <gtest/gtest.h>
+#include "hazmap/hazard/kernel_classifier.hpp"
+#include "test_support.hpp"
 
 namespace hazmap {
 namespace {
@@ -195,6 +196,60 @@ TEST(RoughnessFilter, KernelEvidenceMakesAnUnobservedCellAHazardButNeverTraversa
 
 
 // ---- Detrended roughness (hazard.roughness: detrended) ----
+
+// The classifier in bands of rows on threads (set_parallel) against one thread: every
+// cell's class and kernel statistics bit for bit, raw and detrended roughness, with the
+// wheel ring, whole and over a region (the incremental path) on 2 and 3 threads.
+TEST(PiecewiseConstantClassifier, BandsOnThreadsEqualOneThread) {
+  // A layer with holes: smooth ground (mm noise) on the left, rough (+-2 cm) on the
+  // right, so that every class occurs.
+  DenseGrid h = random_map(90, 77, 0.1, 17);
+  for (int row = 0; row < h.rows; ++row)
+    for (int col = 0; col < h.cols; ++col) h.at(row, col) *= col < 40 ? 0.01f : 0.1f;
+  LayerGrids grids;
+  grids.height = h;
+  grids.variance = random_variance(h, 17);
+  for (float& v : grids.variance.values) v *= 0.01f;
+  for (const bool detrended : {false, true})
+    for (const int threads : {2, 3}) {
+      LayerHazardParams p = roughness_only(7, 0.02, 0.5, 2.0);
+      p.ring_tests = true;
+      p.wheelbase_m = 0.2;
+      p.detrended_roughness = detrended;
+      const std::string what = std::string(detrended ? "detrended" : "raw") + ", " +
+                               std::to_string(threads) + " threads";
+      PiecewiseConstantClassifier one(p), many(p);
+      const testing::ThreadsFor pool(threads);
+      many.set_parallel(&pool);
+      DenseGrid a, b;
+      HazardDiagnostics da, db;
+      one.classify(grids, a, da);
+      many.classify(grids, b, db);
+      // A region: the rows a frame changed, classified again into the same grids.
+      const GridRect region{11, 70, 5, 60};
+      one.classify(grids, region, a, da);
+      many.classify(grids, region, b, db);
+      auto same = [&](const DenseGrid& x, const DenseGrid& y, const char* name) {
+        ASSERT_EQ(x.values.size(), y.values.size()) << what << ", " << name;
+        int differ = 0;
+        for (size_t i = 0; i < x.values.size(); ++i)
+          differ +=
+              !(x.values[i] == y.values[i] || (std::isnan(x.values[i]) && std::isnan(y.values[i])));
+        EXPECT_EQ(differ, 0) << what << ", " << name;
+      };
+      same(a, b, "class");
+      same(da.kernel_range, db.kernel_range, "range");
+      same(da.kernel_sigma, db.kernel_sigma, "sigma");
+      same(da.kernel_fill, db.kernel_fill, "fill");
+      if (detrended) {
+        same(da.kernel_slope, db.kernel_slope, "slope");
+      }
+      // Something to compare: each class on many cells.
+      int count[3] = {0, 0, 0};
+      for (const float v : a.values) ++count[static_cast<int>(v)];
+      for (int c = 0; c < 3; ++c) EXPECT_GT(count[c], 200) << what << ", class " << c;
+    }
+}
 
 TEST(KernelPlane, RecoversAPlaneALineAlongCollinearCellsAndAMean) {
   // Five non-collinear cells on z = 0.3 + 0.02 dx - 0.05 dy.

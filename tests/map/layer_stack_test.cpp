@@ -12,7 +12,6 @@
 #include <memory>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "hazmap/core/error.hpp"
@@ -21,6 +20,7 @@
 #include "hazmap/map/rolling_layer.hpp"
 #include "hazmap/rules/ccm.hpp"
 #include "hazmap/rules/rule_registry.hpp"
+#include "test_support.hpp"
 
 namespace hazmap {
 namespace {
@@ -307,24 +307,6 @@ TEST(LayerStack, EveryRuleInAStackPublishesTheSameBitsAsAlone) {
   }
 }
 
-/// A ParallelFor on std::threads: part k of `threads` on its own thread, all at once.
-class ThreadsFor final : public ParallelFor {
- public:
-  explicit ThreadsFor(int threads) : threads_(threads) {}
-  void run(int n, const RangeTask& task) const override {
-    std::vector<std::thread> pool;
-    for (int k = 0; k < threads_; ++k) {
-      const int begin = n * k / threads_, end = n * (k + 1) / threads_;
-      if (begin < end) pool.emplace_back([&task, begin, end] { task(begin, end); });
-    }
-    for (std::thread& t : pool) t.join();
-  }
-  int threads() const override { return threads_; }
-
- private:
-  int threads_;
-};
-
 // Layers inserted on several threads (each thread a set of layers through every chunk,
 // the sets rebalanced from the frame before's times): every grid bit for bit as on one
 // thread, the changed cells, gate counts and updates too, timed or not, on 2 and 3
@@ -339,7 +321,7 @@ TEST(LayerStack, LayersOnSeveralThreadsPublishTheSameBitsAsOnOne) {
   map.layers[4].rule = RuleKind::omg;
   for (const int threads : {2, 3})
     for (const bool timed : {false, true}) {
-      const ThreadsFor pool(threads);
+      const testing::ThreadsFor pool(threads);
       LayerStack serial(map, rules), parallel(map, rules);
       parallel.set_parallel(&pool);
       std::vector<double> layer_ms(map.layers.size(), -1.0);

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 
+#include "hazmap/core/parallel_for.hpp"
 #include "hazmap/hazard/hazard_params.hpp"
 #include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/hazard/wheel_ring.hpp"
@@ -75,6 +76,10 @@ class HazardClassifier {
   /// classifier's use.
   void set_ring_only(DenseGrid* ring_only) { ring_only_ = ring_only; }
 
+  /// classify() may split a region's rows over `pool`'s threads (null: this thread); a
+  /// cell's result is the same either way. Call before classifying (it sizes scratch).
+  virtual void set_parallel(const ParallelFor* pool) { pool_ = pool; }
+
   /// A diagnostic pass (issue 34; `output.unknown_reasons`, for `hazmap evaluate`): a
   /// whole-layer classification of `grids` that writes into `reasons` (given the layer's
   /// geometry) the UnknownReason bits of each unknown cell, 0 at known cells. Separate
@@ -108,6 +113,7 @@ class HazardClassifier {
   DenseGrid* ring_only_ = nullptr;  ///< set_ring_only()
   const RingFallback* fallback_ = nullptr;
   const DenseGrid* viewed_ = nullptr;
+  const ParallelFor* pool_ = nullptr;
 };
 
 /// The classifier of the layer's family, with the family's shipped list of tests.

@@ -79,6 +79,13 @@ class HazardStage {
   /// each layer's view mask first (hazard.partial_ring_proof: view_edge); null: nothing.
   void run(const LayerStack& map, const SensorView* view = nullptr);
 
+  /// The layers' classifiers split their regions over `pool`'s threads (null: this
+  /// thread); the same results. `pool` must outlive its use.
+  void set_parallel(const ParallelFor* pool) {
+    pool_ = pool;
+    for (auto& c : classifiers_) c->set_parallel(pool);
+  }
+
   const std::vector<LayerView>& layers() const { return views_; }
   const PlannerMaps& planner_maps() const { return planner_; }
   const HazardParams& params() const { return params_; }
@@ -125,6 +132,7 @@ class HazardStage {
   HazardParams params_;
   bool incremental_;
   std::vector<std::unique_ptr<HazardClassifier>> classifiers_;  ///< one per layer
+  const ParallelFor* pool_ = nullptr;                           ///< set_parallel
   /// Layer i's ring fallback on layer i + 1 (hazard.coarse_ring_fill), else null.
   std::vector<std::unique_ptr<CoarseRingFill>> fills_;
   /// Layer i's terrain band for its view mask: the coarser layers' heights.

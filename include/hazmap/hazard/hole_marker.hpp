@@ -19,6 +19,7 @@
 // nothing else, is seen whole: its points are as dense as the pixels over it allow (its
 // coverage stays short of 0.8 at range because a few pixel rows span it).
 
+#include "hazmap/core/parallel_for.hpp"
 #include "hazmap/hazard/sensor_view.hpp"
 #include "hazmap/map/grid_rect.hpp"
 #include "hazmap/map/layer.hpp"
@@ -33,9 +34,11 @@ class HoleMarker {
   /// the cells whose mark changed (empty: none). Without a disparity image in `view`,
   /// nothing.
   /// Only corners within `max_depth_m` (and z_max) are in view: pixels farther give the
-  /// layer no points (its lateral gate).
+  /// layer no points (its lateral gate). Bands of rows on `pool`'s threads (null: this
+  /// thread); the same marks.
   static GridRect mark(const SensorView& view, const LayerGrids& map, double tolerance_px,
-                       DenseGrid& marks, double max_depth_m = 1e300);
+                       DenseGrid& marks, double max_depth_m = 1e300,
+                       const ParallelFor* pool = nullptr);
 
   /// The verdict of one frame on one cell: kHoleSeen, kSeenWhole or 0 (none). The cell
   /// spans [x0, x1] x [y0, y1] at height z (W).

@@ -93,40 +93,37 @@ class KernelFamilyClassifier final : public HazardClassifier {
  public:
   explicit KernelFamilyClassifier(const LayerHazardParams& params)
       : HazardClassifier(params), tests_(params) {
-    filter_.set_detrended(params.detrended_roughness);
+    filters_.resize(1);
+    filters_[0].set_detrended(params.detrended_roughness);
     for (int w : kernel_half_widths(params.kernel)) kernel_cells_ += 2 * w + 1;
     for (int n = 0; n <= kernel_cells_; ++n) kernel_k_.push_back(kernel_k_sigma(params.k_sigma, n));
   }
   using HazardClassifier::classify;
 
+  void set_parallel(const ParallelFor* pool) override {
+    HazardClassifier::set_parallel(pool);
+    // Two parts per thread, so that a thread done early takes another; each its filter.
+    filters_.resize(pool ? static_cast<std::size_t>(2 * pool->threads()) : 1);
+    for (RoughnessFilter& f : filters_) f.set_detrended(params_.detrended_roughness);
+  }
+
   void classify(const LayerGrids& g, const GridRect& region, DenseGrid& hazard,
                 HazardDiagnostics& diag) override {
-    const DenseGrid& h = g.height;
-    const LayerHazardParams& p = params_;
-    const GridRect cells = region.clipped(h.rows, h.cols);
-    const bool detrended = p.detrended_roughness;
-    filter_.compute(h, g.variance, p.kernel, cells, diag.kernel_range, diag.kernel_sigma,
-                    diag.kernel_fill, detrended ? &diag.kernel_slope : nullptr,
-                    detrended ? &diag.kernel_slope_sigma : nullptr);
-    const double tan_slope = std::tan(p.max_slope_rad);
-    ring_offsets(h.resolution_m, ring_dr_, ring_dc_);
-    for (int row = cells.row0; row < cells.row1; ++row)
-      for (int col = cells.col0; col < cells.col1; ++col) {
-        hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
-        if (std::isnan(diag.kernel_range.at(row, col))) {  // kernel off the layer or empty
-          record(row, col, kReasonNoHeight);
-          continue;
-        }
-        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope, fallback_, viewed_);
-        const float fill = diag.kernel_fill.at(row, col);
-        cell.kernel_complete = !std::isnan(cell.z) && fill >= p.min_kernel_fill;
-        const int observed = static_cast<int>(std::lround(double(fill) * kernel_cells_));
-        cell.range_k = kernel_k_[std::clamp(observed, 0, kernel_cells_)];
-        Evidence ev(p.k_sigma);
-        tests_.run(cell, ev);
-        hazard.at(row, col) = static_cast<float>(ev.result());
-        record(row, col, ev);
+    const GridRect cells = region.clipped(g.height.rows, g.height.cols);
+    if (cells.empty()) return;
+    ring_offsets(g.height.resolution_m, ring_dr_, ring_dc_);  // read by every part
+    // Bands of rows on the pool: a cell's tests read only its own kernel statistics
+    // (written by its band's filter) and the layer's grids, so bands are independent.
+    const int rows = cells.row1 - cells.row0;
+    const int parts = std::clamp(rows / kRowsPerPart, 1, static_cast<int>(filters_.size()));
+    parallel_for(pool_, parts, [&](int begin, int end) {
+      for (int k = begin; k < end; ++k) {
+        GridRect band = cells;
+        band.row0 = cells.row0 + rows * k / parts;
+        band.row1 = cells.row0 + rows * (k + 1) / parts;
+        classify_band(g, band, hazard, diag, filters_[static_cast<std::size_t>(k)]);
       }
+    });
   }
 
   /// The kernel's half width, and a ring sample's cell offset + 1 (it may come from a
@@ -161,8 +158,41 @@ class KernelFamilyClassifier final : public HazardClassifier {
     }
   }
 
+  /// Fewest rows worth a band of their own on the pool.
+  static constexpr int kRowsPerPart = 8;
+
+  /// classify() over `cells` (within the grid) with `filter`'s scratch.
+  void classify_band(const LayerGrids& g, const GridRect& cells, DenseGrid& hazard,
+                     HazardDiagnostics& diag, RoughnessFilter& filter) {
+    const DenseGrid& h = g.height;
+    const LayerHazardParams& p = params_;
+    const bool detrended = p.detrended_roughness;
+    filter.compute(h, g.variance, p.kernel, cells, diag.kernel_range, diag.kernel_sigma,
+                   diag.kernel_fill, detrended ? &diag.kernel_slope : nullptr,
+                   detrended ? &diag.kernel_slope_sigma : nullptr);
+    const double tan_slope = std::tan(p.max_slope_rad);
+    for (int row = cells.row0; row < cells.row1; ++row)
+      for (int col = cells.col0; col < cells.col1; ++col) {
+        hazard.at(row, col) = static_cast<float>(HazardClass::unknown);
+        if (std::isnan(diag.kernel_range.at(row, col))) {  // kernel off the layer or empty
+          record(row, col, kReasonNoHeight);
+          continue;
+        }
+        KernelCell cell(g, diag, ring_, row, col, ring_dr_, ring_dc_, tan_slope, fallback_,
+                        viewed_);
+        const float fill = diag.kernel_fill.at(row, col);
+        cell.kernel_complete = !std::isnan(cell.z) && fill >= p.min_kernel_fill;
+        const int observed = static_cast<int>(std::lround(double(fill) * kernel_cells_));
+        cell.range_k = kernel_k_[std::clamp(observed, 0, kernel_cells_)];
+        Evidence ev(p.k_sigma);
+        tests_.run(cell, ev);
+        hazard.at(row, col) = static_cast<float>(ev.result());
+        record(row, col, ev);
+      }
+  }
+
   Tests tests_;
-  RoughnessFilter filter_;
+  std::vector<RoughnessFilter> filters_;  ///< one per band (set_parallel); one without a pool
   int kernel_cells_ = 0;
   std::vector<double> kernel_k_;  ///< kernel_k_sigma(k, n) for n observed kernel cells
   /// Ring samples as cell offsets (the cell that holds each sample point).
