@@ -21,8 +21,8 @@ class ThreadsFor final : public ParallelFor {
   void run(int n, const RangeTask& task) const override {
     std::vector<std::thread> pool;
     for (int k = 0; k < threads_; ++k) {
-      const int begin = n * k / threads_, end = n * (k + 1) / threads_;
-      if (begin < end) pool.emplace_back([&task, begin, end] { task(begin, end); });
+      const EvenPart part = even_part(n, threads_, k);
+      if (part.begin < part.end) pool.emplace_back([&task, part] { task(part.begin, part.end); });
     }
     for (std::thread& t : pool) t.join();
   }

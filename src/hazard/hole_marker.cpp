@@ -124,7 +124,8 @@ GridRect HoleMarker::mark(const SensorView& view, const LayerGrids& map, double 
       std::clamp(std::min(g.rows / kRowsPerBand, pool ? 2 * pool->threads() : 1), 1, kMaxBands);
   parallel_for(pool, bands, [&](int begin, int end) {
     for (int b = begin; b < end; ++b) {
-      for (int row = g.rows * b / bands; row < g.rows * (b + 1) / bands; ++row) {
+      const EvenPart part = even_part(g.rows, bands, b);
+      for (int row = part.begin; row < part.end; ++row) {
         const double y = g.y_of_row(row);
         for (int col = 0; col < g.cols; ++col) {
           float& mark = marks.at(row, col);

@@ -121,6 +121,24 @@ std::size_t insert_layers(std::vector<std::unique_ptr<Layer>>& layers, std::vect
   }
   return updates;
 }
+
+/// insert_layers' lap: adds the cycle-counter ticks since the previous lap to layer i's.
+struct LayerLap {
+  std::uint64_t* ticks;
+  std::uint64_t last = read_ticks();
+  void operator()(std::size_t i) {
+    const std::uint64_t now = read_ticks();
+    ticks[i] += now - last;
+    last = now;
+  }
+};
+
+/// Splits `ms` of wall time over the layers in proportion to their ticks (of `total`).
+void share_ms(double ms, std::uint64_t total, const std::vector<std::uint64_t>& ticks,
+              double* layer_ms) {
+  for (std::size_t i = 0; i < ticks.size(); ++i)
+    layer_ms[i] = total > 0 ? ms * static_cast<double>(ticks[i]) / static_cast<double>(total) : 0.0;
+}
 }  // namespace
 
 void LayerStack::set_parallel(const ParallelFor* pool) {
@@ -170,26 +188,17 @@ std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
     const std::uint64_t start_ticks = read_ticks();
     parallel_for(pool_, static_cast<int>(sets), [&](int begin, int end) {
       for (int g = begin; g < end; ++g) {
-        std::uint64_t last = read_ticks();
+        // Each set its layers: no two threads add to one layer's ticks.
+        LayerLap lap{layer_ticks_.data()};
         group_updates_[static_cast<std::size_t>(g)] = insert_layers(
             layers_, pools_, false, points, g == 0 ? &bounds : nullptr,
-            [&](std::size_t i) { return group_of_[i] == g; },
-            [&](std::size_t i) {
-              const std::uint64_t now = read_ticks();
-              layer_ticks_[i] += now - last;
-              last = now;
-            });
+            [&](std::size_t i) { return group_of_[i] == g; }, lap);
       }
     });
     const double ms = ms_since(start);
-    const std::uint64_t ticks = read_ticks() - start_ticks;
     std::size_t updates = 0;
     for (const std::size_t u : group_updates_) updates += u;
-    if (layer_ms)
-      for (std::size_t i = 0; i < n; ++i)
-        layer_ms[i] = ticks > 0
-                          ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
-                          : 0.0;
+    if (layer_ms) share_ms(ms, read_ticks() - start_ticks, layer_ticks_, layer_ms);
     keep_bounds();
     return updates;
   }
@@ -201,19 +210,11 @@ std::size_t LayerStack::insert(const MapPoints& points, double* layer_ms) {
   }
   std::fill(layer_ticks_.begin(), layer_ticks_.end(), 0);
   const Clock::time_point start = Clock::now();
-  const std::uint64_t start_ticks = read_ticks();
-  std::uint64_t last = start_ticks;
-  const std::size_t updates =
-      insert_layers(layers_, pools_, pooling_, points, &bounds, all, [&](std::size_t i) {
-        const std::uint64_t now = read_ticks();
-        layer_ticks_[i] += now - last;
-        last = now;
-      });
+  LayerLap lap{layer_ticks_.data()};
+  const std::uint64_t start_ticks = lap.last;
+  const std::size_t updates = insert_layers(layers_, pools_, pooling_, points, &bounds, all, lap);
   const double ms = ms_since(start);
-  const std::uint64_t ticks = last - start_ticks;
-  for (std::size_t i = 0; i < layers_.size(); ++i)
-    layer_ms[i] = ticks > 0 ? ms * static_cast<double>(layer_ticks_[i]) / static_cast<double>(ticks)
-                            : 0.0;
+  share_ms(ms, lap.last - start_ticks, layer_ticks_, layer_ms);
   keep_bounds();
   return updates;
 }

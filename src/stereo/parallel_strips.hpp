@@ -2,8 +2,9 @@
 // Row-strip parallelism for the stereo stages that must not allocate per frame.
 
 #include <algorithm>
-
 #include <opencv2/core/utility.hpp>
+
+#include "hazmap/core/parallel_for.hpp"
 
 namespace hazmap::stereo_detail {
 
@@ -31,8 +32,8 @@ inline int frame_strips() { return std::max(1, cv::getNumThreads()) * 2; }
 
 /// Splits [0, n) into `parts` nearly equal pieces; returns piece i.
 inline cv::Range strip(int n, int parts, int i) {
-  return {static_cast<int>(static_cast<long long>(n) * i / parts),
-          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
+  const EvenPart p = even_part(n, parts, i);
+  return {p.begin, p.end};
 }
 
 }  // namespace hazmap::stereo_detail

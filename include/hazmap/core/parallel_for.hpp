@@ -6,6 +6,18 @@
 
 namespace hazmap {
 
+/// One part of a range cut into nearly equal parts: [begin, end).
+struct EvenPart {
+  int begin, end;
+};
+
+/// Part `i` of [0, n) cut into `parts` nearly equal pieces (their sizes differ by at most
+/// one; together they cover [0, n) in order).
+inline EvenPart even_part(int n, int parts, int i) {
+  return {static_cast<int>(static_cast<long long>(n) * i / parts),
+          static_cast<int>(static_cast<long long>(n) * (i + 1) / parts)};
+}
+
 /// The body of a parallel loop: called with disjoint [begin, end) that cover [0, n).
 class RangeTask {
  public:

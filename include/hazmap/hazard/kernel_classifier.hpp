@@ -118,9 +118,10 @@ class KernelFamilyClassifier final : public HazardClassifier {
     const int parts = std::clamp(rows / kRowsPerPart, 1, static_cast<int>(filters_.size()));
     parallel_for(pool_, parts, [&](int begin, int end) {
       for (int k = begin; k < end; ++k) {
+        const EvenPart part = even_part(rows, parts, k);
         GridRect band = cells;
-        band.row0 = cells.row0 + rows * k / parts;
-        band.row1 = cells.row0 + rows * (k + 1) / parts;
+        band.row0 = cells.row0 + part.begin;
+        band.row1 = cells.row0 + part.end;
         classify_band(g, band, hazard, diag, filters_[static_cast<std::size_t>(k)]);
       }
     });
