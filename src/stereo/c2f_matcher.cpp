@@ -312,6 +312,30 @@ void C2fMatcher::seed_level(int l) {
   });
 }
 
+/// stereo.c2f.max_match_cost: the pixel's own census distance at its winner, as the cost
+/// pass stored it, against the key; the aggregated sums chose the winner, this asks
+/// whether the pixel's window matched there at all.
+void C2fMatcher::drop_poor_matches(Level& L) const {
+  const int w = L.size.width;
+  const std::size_t npad = static_cast<std::size_t>(L.npad);
+  const int max_cost = config_.max_match_cost;
+  const PixelIndex at{w};
+  parallel_range(cv::Range(0, L.size.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      float* disp = L.disp.data() + at(0, y);
+      const std::int16_t* winner = L.winner.data() + at(0, y);
+      const std::int16_t* dmin = L.dmin.data() + at(0, y);
+      const std::uint8_t* cost = L.cost.data() + at(0, y) * npad;
+      for (int x = 0; x < w; ++x) {
+        if (disp[x] < 0) continue;
+        const int k = winner[x] - dmin[x];
+        if (cost[static_cast<std::size_t>(x) * npad + static_cast<std::size_t>(k)] > max_cost)
+          disp[x] = -1.f;
+      }
+    }
+  });
+}
+
 void C2fMatcher::refine_subpixel(Level& L) const {
   // A parabola through one pixel's aggregated sums locks onto whole pixels (a rendered
   // ramp's disparities measured -0.06 px off at a quarter pixel, +0.07 at three
@@ -373,6 +397,7 @@ void C2fMatcher::match_level(int l) {
   aggregate_rows(L);
   aggregate_columns(L);
   select_winners(L);
+  if (l == 0 && config_.max_match_cost > 0) drop_poor_matches(L);
   if (l == 0 && config_.subpixel_radius > 0 && L.n >= 3) refine_subpixel(L);
   size_t valid = 0;
   for (const float d : L.disp) valid += d >= 0;

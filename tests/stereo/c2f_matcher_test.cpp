@@ -323,6 +323,52 @@ TEST(C2fMatcher, EdgeAwareP2KeepsAnOutlineSharp) {
   EXPECT_LT(wrong_by_edge[1], wrong_by_edge[0] * 4 / 5);
 }
 
+// stereo.c2f.max_match_cost: a textured plane at 13 px whose right image holds a patch
+// of unrelated texture, where the paths carry the plane's disparity over pixels whose own
+// windows do not match. The gated output must be the ungated one with exactly the pixels
+// dropped whose census distance at their winner, recomputed here by brute force, exceeds
+// the threshold (the gate runs after the winners are chosen; it moves no other pixel).
+TEST(C2fMatcher, MaxMatchCostDropsExactlyThePixelsWhoseOwnWindowDoesNotMatch) {
+  const cv::Size size(200, 120);
+  const cv::Mat wide = texture(cv::Size(size.width + 32, size.height), 11);
+  const cv::Mat left = wide(cv::Rect(0, 0, size.width, size.height)).clone();
+  const cv::Mat truth_left(size, CV_32S, cv::Scalar(13));
+  cv::Mat right = warp_right(wide, truth_left, 13);
+  texture(cv::Size(14, 10), 12).copyTo(right(cv::Rect(90, 50, 14, 10)));
+  C2fConfig c = plain_config();
+  c.subpixel_radius = 0;
+  cv::Mat ungated, gated;
+  C2fMatcher(c, 0, 32, size, 0, 0).compute(left, right, ungated);
+  const int threshold = 14;
+  c.max_match_cost = threshold;
+  C2fMatcher(c, 0, 32, size, 0, 0).compute(left, right, gated);
+  int dropped = 0, kept = 0;
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const int v = ungated.at<std::int16_t>(y, x);
+      const int g = gated.at<std::int16_t>(y, x);
+      if (v < 0) {
+        EXPECT_LT(g, 0) << "at " << x << ", " << y;
+        continue;
+      }
+      if (v % 16 == 8) continue;  // d + 1/2 or d + 1 - 1/2: the winner is not known here
+      const int winner = static_cast<int>(std::lround(v / 16.0));
+      ASSERT_GE(x - winner, 0);
+      const int cost =
+          __builtin_popcountll(census_at(left, x, y, 9, 7) ^ census_at(right, x - winner, y, 9, 7));
+      if (cost > threshold) {
+        EXPECT_LT(g, 0) << "at " << x << ", " << y << ": cost " << cost;
+        ++dropped;
+      } else {
+        EXPECT_EQ(g, v) << "at " << x << ", " << y << ": cost " << cost;
+        ++kept;
+      }
+    }
+  std::printf("max_match_cost %d: %d dropped, %d kept\n", threshold, dropped, kept);
+  EXPECT_GT(dropped, 20);  // the patch's pixels that the paths carried
+  EXPECT_GT(kept, 15000);  // the plane, matched
+}
+
 // A textured plane at a constant disparity of 12, 12.25, 12.5 and 12.75 px (both images
 // area-averaged from one texture 4 x finer, so the shift is exact): the mean error over
 // the image at each quarter. The parabola through one pixel's aggregated sums is drawn

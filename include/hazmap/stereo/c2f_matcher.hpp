@@ -70,6 +70,7 @@ class C2fMatcher {
   void column_pass(Level& L, int dx, int dy, cv::Range cols) const;
   void column_pass_narrow(Level& L, int dx, int dy, cv::Range cols) const;
   void select_winners(Level& L) const;
+  void drop_poor_matches(Level& L) const;
   void refine_subpixel(Level& L) const;
 
   C2fConfig config_;

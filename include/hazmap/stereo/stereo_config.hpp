@@ -68,6 +68,10 @@ struct C2fConfig {
   /// (2 r + 1)^2 box; 0: a parabola through the pixel's aggregated sums (locks onto whole
   /// pixels, but the 4 cm layer's hole-free test proves more with it: docs/stereo.md).
   int subpixel_radius = 0;
+  /// Finest level: a disparity whose own census distance at the winner (before
+  /// aggregation) exceeds this many bits is dropped: the paths carried it there, the
+  /// pixel's window did not match; 0 off.
+  int max_match_cost = 0;
 };
 
 struct StereoConfig {
