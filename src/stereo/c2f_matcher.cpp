@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include <opencv2/calib3d.hpp>
@@ -144,6 +145,11 @@ C2fMatcher::C2fMatcher(const C2fConfig& config, int min_disparity, int end_dispa
   confidence_.create(image, CV_8UC1);
   pyramid_row_.assign(static_cast<size_t>(image.width) * static_cast<size_t>(strips_), 0);
   valid_by_level_.assign(levels_.size(), 0);
+  if (config.outline_jump_px > 0) {
+    outline_row_.assign(static_cast<size_t>(image.width), 0);
+    outline_value_.assign(static_cast<size_t>(image.width), 0);
+    outline_drop_.create(image, CV_8UC1);
+  }
 }
 
 C2fMatcher::~C2fMatcher() = default;
@@ -637,6 +643,49 @@ void C2fMatcher::select_winners(Level& L) const {
       if (L.disp[i] < 0) L.conf[i] = 0;
 }
 
+/// stereo.c2f.outline_jump_px, on the fixed-point output: each column top to bottom, a
+/// valid pixel against the last valid one above it (at most 2 k + 2 rows up); a jump of
+/// more than the key drops k pixels on its smaller-disparity side, starting at the pixel
+/// next to the jump and going away from it. Decided on the undropped values.
+void C2fMatcher::drop_outline_rows(cv::Mat& disparity_x16) {
+  const int k = config_.outline_rows;
+  const int gap = 2 * k + 2;
+  const int jump = static_cast<int>(std::lround(16.0 * config_.outline_jump_px));
+  const int invalid = (min_disparity_ - 1) * 16;
+  const int rows = disparity_x16.rows;
+  outline_drop_.setTo(0);
+  parallel_range(cv::Range(0, disparity_x16.cols), [&](const cv::Range& cols) {
+    for (int x = cols.start; x < cols.end; ++x) outline_row_[static_cast<size_t>(x)] = -gap - 1;
+    for (int y = 0; y < rows; ++y) {
+      const std::int16_t* d = disparity_x16.ptr<std::int16_t>(y);
+      for (int x = cols.start; x < cols.end; ++x) {
+        const int v = d[x];
+        if (v <= invalid) continue;
+        const size_t i = static_cast<size_t>(x);
+        const int above = outline_value_[i];
+        if (y - outline_row_[i] <= gap && std::abs(v - above) > jump) {
+          // The far side is the smaller disparity: upwards from the pixel above, or
+          // downwards from this one.
+          const int from = v > above ? outline_row_[i] : y;
+          const int step = v > above ? -1 : 1;
+          for (int j = 0, yy = from; j < k && yy >= 0 && yy < rows; ++j, yy += step)
+            outline_drop_.ptr<std::uint8_t>(yy)[x] = 1;
+        }
+        outline_row_[i] = y;
+        outline_value_[i] = static_cast<std::int16_t>(v);
+      }
+    }
+  });
+  parallel_range(cv::Range(0, rows), [&](const cv::Range& band) {
+    for (int y = band.start; y < band.end; ++y) {
+      std::int16_t* d = disparity_x16.ptr<std::int16_t>(y);
+      const std::uint8_t* drop = outline_drop_.ptr<std::uint8_t>(y);
+      for (int x = 0; x < disparity_x16.cols; ++x)
+        if (drop[x]) d[x] = static_cast<std::int16_t>(invalid);
+    }
+  });
+}
+
 void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {
   Level& L0 = levels_[0];
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != L0.size ||
@@ -668,6 +717,7 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
       }
     }
   });
+  if (config_.outline_jump_px > 0) drop_outline_rows(disparity_x16);
   if (speckle_window_ > 0)
     speckle_.apply(disparity_x16, invalid, speckle_window_, 16 * speckle_range_);
   L0.left = cv::Mat();

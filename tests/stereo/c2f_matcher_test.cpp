@@ -369,6 +369,73 @@ TEST(C2fMatcher, MaxMatchCostDropsExactlyThePixelsWhoseOwnWindowDoesNotMatch) {
   EXPECT_GT(kept, 15000);  // the plane, matched
 }
 
+// stereo.c2f.outline_jump_px: a textured plane at 13 px with a nearer square at 31 px,
+// whose top and bottom outlines are vertical jumps of 18 px. The output with the key must
+// be the output without it (speckle filter off in both) with exactly the pixels dropped
+// that a plain column scan finds: k pixels on the smaller-disparity side of every jump of
+// more than J px between valid pixels at most 2 k + 2 rows apart. And both outlines are
+// found in nearly every column the square spans.
+TEST(C2fMatcher, OutlineJumpDropsExactlyTheFarSideOfEachVerticalJump) {
+  const cv::Size size(240, 160);
+  const cv::Mat wide = texture(cv::Size(size.width + 64, size.height), 23);
+  const cv::Mat left = wide(cv::Rect(0, 0, size.width, size.height)).clone();
+  cv::Mat truth_left(size, CV_32S, cv::Scalar(13));
+  const cv::Rect square(100, 50, 70, 60);
+  truth_left(square).setTo(31);
+  const cv::Mat right = warp_right(wide, truth_left, 13);
+  C2fConfig c = plain_config();
+  cv::Mat plain, dropped;
+  C2fMatcher(c, 0, 48, size, 0, 0).compute(left, right, plain);
+  const double J = 2.0;
+  const int k = 3, gap = 2 * k + 2;
+  c.outline_jump_px = J;
+  c.outline_rows = k;
+  C2fMatcher(c, 0, 48, size, 0, 0).compute(left, right, dropped);
+
+  const int invalid = -16;
+  cv::Mat expect_drop(size, CV_8U, cv::Scalar(0));
+  for (int x = 0; x < size.width; ++x) {
+    std::vector<int> rows;
+    for (int y = 0; y < size.height; ++y)
+      if (plain.at<std::int16_t>(y, x) > invalid) rows.push_back(y);
+    for (size_t i = 1; i < rows.size(); ++i) {
+      const int a = plain.at<std::int16_t>(rows[i - 1], x), b = plain.at<std::int16_t>(rows[i], x);
+      if (rows[i] - rows[i - 1] > gap || std::abs(a - b) / 16.0 <= J) continue;
+      for (int j = 0; j < k; ++j) {
+        const int y = a < b ? rows[i - 1] - j : rows[i] + j;
+        if (y >= 0 && y < size.height) expect_drop.at<std::uint8_t>(y, x) = 1;
+      }
+    }
+  }
+  int n_dropped = 0, top_found = 0, bottom_found = 0, columns = 0;
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const int v = plain.at<std::int16_t>(y, x), g = dropped.at<std::int16_t>(y, x);
+      if (expect_drop.at<std::uint8_t>(y, x) && v > invalid) {
+        EXPECT_EQ(g, invalid) << "at " << x << ", " << y;
+        ++n_dropped;
+      } else {
+        EXPECT_EQ(g, v) << "at " << x << ", " << y;
+      }
+    }
+  // The far side of the top outline is the background just above the square, of the
+  // bottom one the background just below it (within the census half-height of the edge).
+  for (int x = square.x + 6; x < square.x + square.width - 6; ++x) {
+    ++columns;
+    bool top = false, bottom = false;
+    for (int y = square.y - 4; y < square.y + 4; ++y) top = top || expect_drop.at<std::uint8_t>(y, x);
+    for (int y = square.y + square.height - 4; y < square.y + square.height + 4; ++y)
+      bottom = bottom || expect_drop.at<std::uint8_t>(y, x);
+    top_found += top;
+    bottom_found += bottom;
+  }
+  std::printf("outline_jump_px %.1f: %d pixels dropped, outlines found in %d / %d of %d columns\n",
+              J, n_dropped, top_found, bottom_found, columns);
+  EXPECT_GE(top_found, columns * 9 / 10);
+  EXPECT_GE(bottom_found, columns * 9 / 10);
+  EXPECT_LE(n_dropped, 2 * k * (square.width + 2 * 31) + 40);  // outlines only, not the planes
+}
+
 // A textured plane at a constant disparity of 12, 12.25, 12.5 and 12.75 px (both images
 // area-averaged from one texture 4 x finer, so the shift is exact): the mean error over
 // the image at each quarter. The parabola through one pixel's aggregated sums is drawn

@@ -13,7 +13,8 @@
 // finest sub-pixel disparities: a parabola through the pixel's aggregated sums or, with
 // `subpixel_radius` > 0, two lines through the raw census costs summed over a box of
 // neighbours at its three disparities. Output: OpenCV's fixed point (CV_16S, x16;
-// (min_disparity - 1) x 16 where invalid), then the speckle filter.
+// (min_disparity - 1) x 16 where invalid), with `outline_jump_px` the far side of each
+// horizontal outline dropped, then the speckle filter.
 //
 // Two kernel sets, the same integers: a scalar one (the reference) and AVX2, chosen at
 // run time (simd::has_avx2). Rows and columns run in strips on OpenCV's thread pool.
@@ -72,6 +73,7 @@ class C2fMatcher {
   void select_winners(Level& L) const;
   void drop_poor_matches(Level& L) const;
   void refine_subpixel(Level& L) const;
+  void drop_outline_rows(cv::Mat& disparity_x16);
 
   C2fConfig config_;
   int min_disparity_ = 0;
@@ -86,6 +88,10 @@ class C2fMatcher {
   SpeckleFilter speckle_;
   std::vector<int> pyramid_row_;  // per strip one source row, filtered vertically
   std::vector<std::size_t> valid_by_level_;
+  // stereo.c2f.outline_jump_px: per column the last valid row and its disparity, the drops.
+  std::vector<int> outline_row_;
+  std::vector<std::int16_t> outline_value_;
+  cv::Mat outline_drop_;
   std::vector<std::int16_t> p2_of_diff_;  // 256 entries with stereo.c2f.p2_edge, else empty
   const std::int16_t* p2_lut() const { return p2_of_diff_.empty() ? nullptr : p2_of_diff_.data(); }
 };

@@ -72,6 +72,14 @@ struct C2fConfig {
   /// aggregation) exceeds this many bits is dropped: the paths carried it there, the
   /// pixel's window did not match; 0 off.
   int max_match_cost = 0;
+  /// Horizontal outlines (a crest, a rock's top against the ground behind it): where a
+  /// column's disparity jumps by more than this [px] between valid pixels at most
+  /// 2 outline_rows + 2 rows apart, `outline_rows` pixels on the jump's far side (the
+  /// smaller disparity) are dropped, from the jump outwards. A census window straddling
+  /// the outline gives the near surface's first rows the far ground's disparity: points in
+  /// the air over the hidden ground behind it. 0 off.
+  double outline_jump_px = 0;
+  int outline_rows = 3;  ///< rows dropped at an outline (about the census half-height)
 };
 
 struct StereoConfig {
