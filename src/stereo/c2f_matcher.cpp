@@ -647,11 +647,10 @@ void C2fMatcher::select_winners(Level& L) const {
 /// valid pixel against the last valid one above it (at most 2 k + 2 rows up); a jump of
 /// more than the key drops k pixels on its smaller-disparity side, starting at the pixel
 /// next to the jump and going away from it. Decided on the undropped values.
-void C2fMatcher::drop_outline_rows(cv::Mat& disparity_x16) {
+void C2fMatcher::drop_outline_rows(cv::Mat& disparity_x16, int invalid) {
   const int k = config_.outline_rows;
   const int gap = 2 * k + 2;
   const int jump = static_cast<int>(std::lround(16.0 * config_.outline_jump_px));
-  const int invalid = (min_disparity_ - 1) * 16;
   const int rows = disparity_x16.rows;
   outline_drop_.setTo(0);
   parallel_range(cv::Range(0, disparity_x16.cols), [&](const cv::Range& cols) {
@@ -676,14 +675,7 @@ void C2fMatcher::drop_outline_rows(cv::Mat& disparity_x16) {
       }
     }
   });
-  parallel_range(cv::Range(0, rows), [&](const cv::Range& band) {
-    for (int y = band.start; y < band.end; ++y) {
-      std::int16_t* d = disparity_x16.ptr<std::int16_t>(y);
-      const std::uint8_t* drop = outline_drop_.ptr<std::uint8_t>(y);
-      for (int x = 0; x < disparity_x16.cols; ++x)
-        if (drop[x]) d[x] = static_cast<std::int16_t>(invalid);
-    }
-  });
+  disparity_x16.setTo(cv::Scalar::all(invalid), outline_drop_);
 }
 
 void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disparity_x16) {
@@ -717,7 +709,7 @@ void C2fMatcher::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& dis
       }
     }
   });
-  if (config_.outline_jump_px > 0) drop_outline_rows(disparity_x16);
+  if (config_.outline_jump_px > 0) drop_outline_rows(disparity_x16, invalid);
   if (speckle_window_ > 0)
     speckle_.apply(disparity_x16, invalid, speckle_window_, 16 * speckle_range_);
   L0.left = cv::Mat();

@@ -73,7 +73,7 @@ class C2fMatcher {
   void select_winners(Level& L) const;
   void drop_poor_matches(Level& L) const;
   void refine_subpixel(Level& L) const;
-  void drop_outline_rows(cv::Mat& disparity_x16);
+  void drop_outline_rows(cv::Mat& disparity_x16, int invalid);
 
   C2fConfig config_;
   int min_disparity_ = 0;
