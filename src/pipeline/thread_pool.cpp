@@ -1,6 +1,9 @@
 #include "hazmap/pipeline/thread_pool.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
 
 #include <opencv2/core/utility.hpp>
 
@@ -25,10 +28,33 @@ class OpenCvParallelFor final : public ParallelFor {
   int threads() const override { return std::max(1, cv::getNumThreads()); }
 };
 
+// A worker thread allocates the first time it runs a cv::parallel_for_ body (OpenCV gives
+// it its own cv::theRNG(), thread-local storage). A worker that sat out the first frame,
+// as a busy machine makes it, would allocate in a later one; so before the pool is handed
+// out, one stripe per thread waits (up to a second) until every stripe has started, which
+// puts each worker on one of them.
+void start_every_worker() {
+  const int threads = cv::getNumThreads();
+  if (threads < 2) return;
+  std::atomic<int> started{0};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  cv::parallel_for_(
+      cv::Range(0, threads),
+      [&](const cv::Range& r) {
+        started += r.end - r.start;
+        while (started.load() < threads && std::chrono::steady_clock::now() < deadline)
+          std::this_thread::yield();
+      },
+      threads);
+}
+
 }  // namespace
 
 const ParallelFor& opencv_parallel_for() {
-  static const OpenCvParallelFor pool;
+  static const OpenCvParallelFor pool = [] {
+    start_every_worker();
+    return OpenCvParallelFor();
+  }();
   return pool;
 }
 
